@@ -1,0 +1,110 @@
+// Energy density Psi(F) of a material at one element: value, PK1 (flattened gradient) and Hessian, plus the PSD
+// projection used by projected Newton. The material must have passed finalizeMaterial() for this element shape.
+#pragma once
+
+#include "energies/arap_svd.hpp"
+#include "energies/bw.hpp"
+#include "energies/bw46.hpp"
+#include "energies/fiber.hpp"
+#include "energies/iarap_lin.hpp"
+#include "energies/kim_aa.hpp"
+#include "energies/shape_target.hpp"
+#include "energies/volume_term.hpp"
+#include "energies/weighted_arap.hpp"
+#include "kernels/psd_projection.hpp"
+
+namespace aries::energies {
+
+template <int C>
+inline const Mat<C, C> &materialWeight(const Material &m) {
+  if constexpr (C == 3)
+    return m.weight3;
+  else
+    return m.weight2;
+}
+
+template <int R, int C>
+inline kernels::Derivs<R * C> evaluateEnergy(const Material &m, const CellData<C> &cell, const Mat<R, C> &F,
+                                             kernels::Order order = kernels::Order::Hessian) {
+  constexpr int N = R * C;
+  constexpr bool square = (R == C);
+  using kernels::Derivs;
+
+  // Energies that need no root function.
+  if (m.kind == EnergyKind::Bw) return baraffWitkin<R, C>(F, cell.a, cell.b, m.mu1, m.mu2, order);
+  if (m.kind == EnergyKind::ArapSvd) {
+    Derivs<N> out = arapSvdShear<R, C>(F, m.mu, order);
+    if constexpr (square)
+      if (m.lambda != 0.0) out += volumeTerm<N>(kernels::invariantJ(F, order), m.lambda, 1.0, order);
+    return out;
+  }
+
+  const auto ctx = kernels::makeRootContext<R, C>(F, order);
+  const StretchTerms<R, C> terms(ctx, m.singularity);
+  Derivs<N> out;
+  auto addVolume = [&](double J0) {
+    if constexpr (square)
+      if (m.lambda != 0.0) out += volumeTerm<N>(jacobianOf<R>(ctx), m.lambda, J0, order);
+  };
+  switch (m.kind) {
+    case EnergyKind::Alx:
+      out = weightedArap<R, C>(ctx, terms, 0.5 * m.mu * kernels::fiberTensor<C>(cell.a));
+      break;
+    case EnergyKind::Iarap:
+    case EnergyKind::Ortho:
+    case EnergyKind::Aniso:
+      out = weightedArap<R, C>(ctx, terms, materialWeight<C>(m));
+      addVolume(1.0);
+      break;
+    case EnergyKind::IarapLin:
+      out = iarapLinShear<R, C>(ctx, m.mu);
+      addVolume(1.0);
+      break;
+    case EnergyKind::Fiber:
+      out = weightedArap<R, C>(ctx, terms, materialWeight<C>(m));
+      out += fiberStiffening<R, C>(terms, cell.a, m.gamma, order);
+      addVolume(1.0);
+      break;
+    case EnergyKind::KimAA: {
+      // Kim's term "in the same manner" as Eq. 39: one Psi_AA per basis direction, coefficient 2 mu each.
+      for (int k = 0; k < C; ++k) {
+        const Vec<C> u = m.basis.row(k).template head<C>().transpose();
+        out += kimAATerm<R, C>(ctx, u, 2.0 * m.mu);
+      }
+      addVolume(1.0);
+      break;
+    }
+    case EnergyKind::Bw46:
+      out = iarapLinShear<R, C>(ctx, 0.5 * m.mu1);
+      break;
+    case EnergyKind::Bw461:
+      out = decoupledCloth<R, C>(terms, cell.a, cell.b, m.mu1, m.mu2, 0.0, order);
+      break;
+    case EnergyKind::Bw46s:
+      out = decoupledCloth<R, C>(terms, cell.a, cell.b, m.mu1, m.mu2, cell.a.dot(cell.b), order);
+      break;
+    case EnergyKind::ShapeTarget:
+      out = shapeTargetShear<R, C>(ctx, terms, cell.target, m.mu);
+      addVolume(cell.target.determinant());
+      break;
+    case EnergyKind::Caricature: {
+      out = weightedArap<R, C>(ctx, terms, materialWeight<C>(m));
+      out += terms(kernels::fiberTensor<C>(cell.a)).scale(m.beta * cell.curvature);
+      addVolume(1.0);
+      break;
+    }
+    case EnergyKind::Bw:
+    case EnergyKind::ArapSvd:
+      break;  // handled above
+  }
+  out += terms.barrier();
+  return out;
+}
+
+// The singularity measure alpha at F (the line-search safeguard's quantity).
+template <int R, int C>
+inline double elementAlpha(const Mat<R, C> &F) {
+  return kernels::rootValue(F).alpha;
+}
+
+}  // namespace aries::energies

@@ -1,0 +1,232 @@
+#include "fem/material_options.hpp"
+
+#include "fem/options.hpp"
+
+namespace aries::fem {
+
+using energies::ElementShape;
+using energies::EnergyKind;
+
+namespace {
+
+PetscErrorCode readDirection(const char *prefix, const char *name, ElementShape shape, Eigen::Vector3d *dir,
+                             PetscBool *set) {
+  std::vector<PetscReal> v;
+  const bool threeD = shape == ElementShape::Tet;
+  PetscFunctionBeginUser;
+  PetscCall(optionRealList(prefix, name, &v, set, threeD ? 3 : 2, threeD ? -1 : 3));
+  if (*set) {
+    Eigen::Vector3d d = Eigen::Vector3d::Zero();
+    for (size_t i = 0; i < v.size(); ++i) d[i] = v[i];
+    if (!threeD && d[2] != 0.0)
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+              "option %s: 2D elements take directions in their material plane (x,y) or with z = 0",
+              optionName(prefix, name).c_str());
+    if (!(d.norm() > 0.0))
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: a direction must not be zero",
+              optionName(prefix, name).c_str());
+    *dir = d.normalized();
+  }
+  PetscFunctionReturn(0);
+}
+
+// Orthonormal basis with u1 = a and u2 = b orthogonalized against a.
+PetscErrorCode basisFrom(const Eigen::Vector3d &a, const Eigen::Vector3d &b, const char *prefix,
+                         Eigen::Matrix3d *basis) {
+  PetscFunctionBeginUser;
+  Eigen::Vector3d u2 = b - a.dot(b) * a;
+  if (!(u2.norm() > 1e-8))
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "options %s and %s must not be parallel (they define the basis)",
+            optionName(prefix, "-fiber").c_str(), optionName(prefix, "-fiber2").c_str());
+  u2.normalize();
+  basis->row(0) = a.transpose();
+  basis->row(1) = u2.transpose();
+  basis->row(2) = a.cross(u2).transpose();
+  PetscFunctionReturn(0);
+}
+
+}  // namespace
+
+PetscErrorCode readMaterialOptions(const char *prefix, ElementShape shape, const energies::Material *base,
+                                   const UniformCellData *baseCell, energies::Material *material,
+                                   UniformCellData *cell) {
+  energies::Material m = base ? *base : energies::Material{};
+  UniformCellData c = baseCell ? *baseCell : UniformCellData{};
+  const bool cloth = shape == ElementShape::Cloth;
+  const int dim = shape == ElementShape::Tet ? 3 : 2;
+  PetscBool set = PETSC_FALSE;
+  PetscFunctionBeginUser;
+
+  std::string name;
+  PetscCall(optionString(prefix, "-energy", &name, &set));
+  if (set) {
+    const auto kind = energies::energyFromName(name);
+    if (!kind)
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: unknown energy '%s' (known: %s)",
+              optionName(prefix, "-energy").c_str(), name.c_str(), energies::energyNames().c_str());
+    m.kind = *kind;
+  } else if (!base && cloth) {
+    m.kind = EnergyKind::Bw46;  // the isotropic cloth default
+  }
+  const char *ename = energies::energyName(m.kind);
+  if (!energies::energySupportsShape(m.kind, shape))
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: energy '%s' is not defined for %s elements",
+            optionName(prefix, "-energy").c_str(), ename, energies::shapeName(shape));
+
+  // Moduli.
+  if (cloth) {
+    if (!base) m.mu1 = m.mu2 = 20.0;
+    PetscCall(optionReal(prefix, "-mu1", &m.mu1, nullptr));
+    if (m.kind != EnergyKind::Bw46) PetscCall(optionReal(prefix, "-mu2", &m.mu2, nullptr));
+  } else {
+    PetscReal E = 1e4, nu = 0.3;
+    PetscBool hasE = PETSC_FALSE, hasNu = PETSC_FALSE, hasMu = PETSC_FALSE, hasLambda = PETSC_FALSE;
+    PetscCall(optionReal(prefix, "-E", &E, &hasE));
+    PetscCall(optionReal(prefix, "-nu", &nu, &hasNu));
+    PetscCall(optionReal(prefix, "-mu", &m.mu, &hasMu));
+    PetscCall(optionReal(prefix, "-lambda", &m.lambda, &hasLambda));
+    if ((hasE || hasNu) && (hasMu || hasLambda))
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "give the moduli either as %s/%s or as %s/%s, not both",
+              optionName(prefix, "-E").c_str(), optionName(prefix, "-nu").c_str(), optionName(prefix, "-mu").c_str(),
+              optionName(prefix, "-lambda").c_str());
+    if (hasE && !(E > 0.0))
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: Young's modulus must be > 0 (got %g)",
+              optionName(prefix, "-E").c_str(), (double)E);
+    if (hasNu && !(nu >= 0.0 && nu < 0.5))
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: Poisson's ratio must be in [0, 0.5) (got %g)",
+              optionName(prefix, "-nu").c_str(), (double)nu);
+    if (hasMu && !(m.mu >= 0.0))
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s must be >= 0 (got %g)",
+              optionName(prefix, "-mu").c_str(), (double)m.mu);
+    if (hasLambda && !(m.lambda >= 0.0))
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s must be >= 0 (got %g)",
+              optionName(prefix, "-lambda").c_str(), (double)m.lambda);
+    if (hasE || hasNu || (!base && !hasMu && !hasLambda)) {
+      m.mu = energies::lameMu(E, nu);
+      m.lambda = energies::lameLambda(E, nu);
+    } else if (hasMu && !hasLambda && !base) {
+      m.lambda = 0.0;
+    }
+  }
+
+  // Energy-specific parameters.
+  switch (m.kind) {
+    case EnergyKind::Fiber: {
+      PetscCall(optionReal(prefix, "-gamma", &m.gamma, &set));
+      if (!set && !(base && base->kind == EnergyKind::Fiber))
+        SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "energy 'fiber' needs %s (fiber stiffness, >= 0)",
+                optionName(prefix, "-gamma").c_str());
+      break;
+    }
+    case EnergyKind::Caricature:
+      PetscCall(optionReal(prefix, "-beta", &m.beta, &set));
+      if (!set && !(base && base->kind == EnergyKind::Caricature))
+        SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "energy 'caricature' needs %s (curvature exaggeration)",
+                optionName(prefix, "-beta").c_str());
+      PetscCall(optionReal(prefix, "-curvature", &c.curvature, nullptr));
+      break;
+    case EnergyKind::Ortho: {
+      std::vector<PetscReal> v;
+      PetscCall(optionRealList(prefix, "-ortho_mu", &v, &set, dim));
+      if (!set && !(base && base->kind == EnergyKind::Ortho))
+        SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+                "energy 'ortho' needs %s with %d shear moduli, one per basis direction (-fiber, -fiber2, ...)",
+                optionName(prefix, "-ortho_mu").c_str(), dim);
+      for (size_t k = 0; k < v.size(); ++k) m.basisCoeffs[k] = v[k];
+      break;
+    }
+    case EnergyKind::Aniso: {
+      std::vector<PetscReal> dirs, mus;
+      PetscBool setD = PETSC_FALSE, setM = PETSC_FALSE;
+      PetscCall(optionRealList(prefix, "-aniso_dirs", &dirs, &setD));
+      PetscCall(optionRealList(prefix, "-aniso_mu", &mus, &setM));
+      if (setD || setM || !(base && base->kind == EnergyKind::Aniso)) {
+        const int n = static_cast<int>(mus.size());
+        if (!setD || !setM || n < 1 || n > energies::kMaxDirections || dirs.size() != static_cast<size_t>(n * dim))
+          SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+                  "energy 'aniso' needs %s with 1..%d directions of %d components each and %s with one coefficient "
+                  "per direction",
+                  optionName(prefix, "-aniso_dirs").c_str(), energies::kMaxDirections, dim,
+                  optionName(prefix, "-aniso_mu").c_str());
+        m.numDirections = n;
+        for (int k = 0; k < n; ++k) {
+          m.directions[k] = Eigen::Vector3d::Zero();
+          for (int i = 0; i < dim; ++i) m.directions[k][i] = dirs[k * dim + i];
+          m.directionCoeffs[k] = mus[k];
+        }
+      }
+      break;
+    }
+    case EnergyKind::ShapeTarget: {
+      std::vector<PetscReal> v;
+      PetscCall(optionRealList(prefix, "-target", &v, &set, dim * dim));
+      if (set) {
+        Eigen::Matrix3d T = Eigen::Matrix3d::Identity();
+        for (int i = 0; i < dim; ++i)
+          for (int j = 0; j < dim; ++j) T(i, j) = v[i * dim + j];
+        if (!(T - T.transpose()).isZero(1e-12 * (1.0 + T.norm())))
+          SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: the shape target S_t must be symmetric",
+                  optionName(prefix, "-target").c_str());
+        c.target = T;
+      }
+      break;
+    }
+    default:
+      break;
+  }
+
+  // Fibers: the energies that read them per element, plus the basis of ortho / kim_aa.
+  const bool basisEnergy = m.kind == EnergyKind::Ortho || m.kind == EnergyKind::KimAA;
+  if (energies::energyUsesFibers(m.kind) || basisEnergy) {
+    PetscBool setA = PETSC_FALSE, setB = PETSC_FALSE;
+    PetscCall(readDirection(prefix, "-fiber", shape, &c.a, &setA));
+    c.fiberGiven = c.fiberGiven || setA;
+    if (cloth || basisEnergy) PetscCall(readDirection(prefix, "-fiber2", shape, &c.b, &setB));
+    if (basisEnergy) {
+      Eigen::Vector3d b = c.b;
+      if (!setB && std::abs(c.a.dot(b)) > 0.9) b = (shape == ElementShape::Tet) ? c.a.unitOrthogonal() : Eigen::Vector3d(-c.a[1], c.a[0], 0.0);
+      PetscCall(basisFrom(c.a, b, prefix, &m.basis));
+    }
+    if (m.kind == EnergyKind::Bw461 && std::abs(c.a.dot(c.b)) > 1e-8)
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+              "energy 'bw461' (Eq. 52) assumes orthogonal fibers but %s . %s = %g; use -energy bw46s for "
+              "non-orthogonal fibers",
+              optionName(prefix, "-fiber").c_str(), optionName(prefix, "-fiber2").c_str(), c.a.dot(c.b));
+  }
+
+  // Singularity mode.
+  std::string mode;
+  PetscCall(optionString(prefix, "-singularity", &mode, &set));
+  if (!energies::energyContainsStretchInvariant(m.kind)) {
+    if (set)
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+              "option %s does not apply: energy '%s' has no I4/I6 term (only alx, iarap, ortho, aniso, fiber, "
+              "bw461, bw46s, shape_target, caricature do)",
+              optionName(prefix, "-singularity").c_str(), ename);
+  } else {
+    if (set) {
+      const auto sm = energies::singularityFromName(mode);
+      if (!sm)
+        SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: unknown mode '%s' (known: none|mollifier|barrier)",
+                optionName(prefix, "-singularity").c_str(), mode.c_str());
+      m.singularity.mode = *sm;
+    }
+    if (m.singularity.mode == energies::SingularityMode::Mollifier) {
+      PetscCall(optionReal(prefix, "-mollifier_eps", &m.singularity.mollifier.eps, nullptr));
+      PetscCall(optionReal(prefix, "-mollifier_proxy", &m.singularity.mollifier.proxy, nullptr));
+    } else if (m.singularity.mode == energies::SingularityMode::Barrier) {
+      PetscCall(optionReal(prefix, "-barrier_eps", &m.singularity.barrier.eps, nullptr));
+      PetscCall(optionReal(prefix, "-barrier_stiffness", &m.singularity.barrierStiffness, nullptr));
+    }
+  }
+
+  const std::string err = energies::finalizeMaterial(m, shape);
+  if (!err.empty())
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "material%s%s: %s", prefix ? " " : "",
+            prefix ? optionName(prefix, "").c_str() : "", err.c_str());
+  *material = m;
+  if (cell) *cell = c;
+  PetscFunctionReturn(0);
+}
+
+}  // namespace aries::fem
