@@ -9,7 +9,7 @@
 #include "energies/energy.hpp"
 #include "fem/material_options.hpp"
 #include "fem/options.hpp"
-#include "io/errors.hpp"
+#include "fem/errors.hpp"
 
 #include <petscsys.h>
 
@@ -263,9 +263,9 @@ PetscErrorCode run() {
 int main(int argc, char **argv) {
   PetscErrorCode ierr = PetscInitialize(&argc, &argv, nullptr, nullptr);
   if (ierr) return 2;
-  ierr = io::installErrorHandler("aries-matpoint");
+  ierr = fem::installErrorHandler("aries-matpoint");
   if (!ierr) ierr = run();
-  const int code = io::exitCodeFor(ierr);
+  const int code = fem::exitCodeFor(ierr);
   PetscOptionsClear(nullptr);  // unused options were already reported; keep PetscFinalize quiet
   PetscFinalize();
   return code;

@@ -1,0 +1,74 @@
+#include "fem/boundary.hpp"
+
+#include "fem/options.hpp"
+
+#include <cmath>
+
+namespace aries::fem {
+
+Eigen::Vector3d ClampSet::target(const Eigen::Vector3d &X, double s) const {
+  Eigen::Vector3d x = X;
+  if (angleDeg != 0.0) {
+    const double angle = s * angleDeg * M_PI / 180.0;
+    x = center + Eigen::AngleAxisd(angle, axis) * (X - center);
+  }
+  return x + s * translate;
+}
+
+PetscErrorCode readBoundaryOptions(BoundarySpec *spec) {
+  std::vector<std::string> ids;
+  PetscBool set = PETSC_FALSE;
+  PetscFunctionBeginUser;
+  PetscCall(optionWordList(nullptr, "-bc_clamp", &ids, &set));
+  for (const auto &id : ids) {
+    for (const auto &other : spec->sets)
+      if (other.id == id) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -bc_clamp lists '%s' twice", id.c_str());
+    ClampSet c;
+    c.id = id;
+    const std::string prefix = "bc_clamp_" + id + "_";
+    std::vector<PetscReal> v;
+    PetscCall(optionRealList(prefix.c_str(), "-translate", &v, &set, 3));
+    if (set) c.translate = Eigen::Vector3d(v[0], v[1], v[2]);
+    PetscCall(optionReal(prefix.c_str(), "-rotate", &c.angleDeg, &set));
+    if (set) {
+      PetscCall(optionRealList(prefix.c_str(), "-axis", &v, &set, 3));
+      if (set) {
+        c.axis = Eigen::Vector3d(v[0], v[1], v[2]);
+        if (!(c.axis.norm() > 0.0))
+          SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s must not be the zero vector",
+                  optionName(prefix.c_str(), "-axis").c_str());
+        c.axis.normalize();
+      }
+      PetscCall(optionRealList(prefix.c_str(), "-center", &v, &set, 3));
+      if (set) {
+        c.center = Eigen::Vector3d(v[0], v[1], v[2]);
+        c.centerGiven = true;
+      }
+    }
+    spec->sets.push_back(c);
+  }
+  std::vector<PetscReal> box;
+  PetscCall(optionRealList(nullptr, "-bc_box", &box, &set));
+  if (set) {
+    if (box.empty() || box.size() % 6 != 0)
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+              "option -bc_box takes xmin,xmax,ymin,ymax,zmin,zmax (6 numbers per box), got %d numbers",
+              (int)box.size());
+    for (size_t b = 0; b < box.size(); b += 6) {
+      std::array<double, 6> bb;
+      for (int k = 0; k < 6; ++k) bb[k] = box[b + k];
+      if (bb[0] > bb[1] || bb[2] > bb[3] || bb[4] > bb[5])
+        SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -bc_box: box %d has min > max", (int)(b / 6) + 1);
+      spec->boxes.push_back(bb);
+      ClampSet pinned;
+      pinned.id = "box" + std::to_string(b / 6 + 1);
+      spec->sets.push_back(pinned);
+    }
+  }
+  PetscCall(optionInt(nullptr, "-bc_ramp_steps", &spec->rampSteps, &set));
+  if (set && spec->rampSteps < 1)
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -bc_ramp_steps must be >= 1 (got %d)", (int)spec->rampSteps);
+  PetscFunctionReturn(0);
+}
+
+}  // namespace aries::fem

@@ -1,0 +1,43 @@
+// Dirichlet boundary conditions (documented in docs/options.md):
+//   -bc_clamp id1,id2,...              gmsh physical groups (ids or names) whose vertices are prescribed
+//   -bc_clamp_<id>_translate x,y,z     total translation of the set, ramped linearly with the load parameter
+//   -bc_clamp_<id>_rotate degrees      total rotation angle of the set about ...
+//   -bc_clamp_<id>_axis x,y,z          ... this axis (default 0,0,1) through ...
+//   -bc_clamp_<id>_center x,y,z        ... this point (default: centroid of the set at rest)
+//   -bc_box xmin,xmax,ymin,ymax,zmin,zmax[,...]   vertices inside any of these boxes are pinned at rest
+//   -bc_ramp_steps K                   the load parameter s = min(1, step / K) (default: all steps)
+// A vertex in several sets follows the first set listed. Prescribed position at load s:
+//   x = c + Rot(axis, s * angle) (X - c) + s * translate.
+#pragma once
+
+#include <petscsys.h>
+
+#include <Eigen/Dense>
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace aries::fem {
+
+struct ClampSet {
+  std::string id;  // as given (number or name)
+  Eigen::Vector3d translate = Eigen::Vector3d::Zero();
+  double angleDeg = 0.0;
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  bool centerGiven = false;
+
+  Eigen::Vector3d target(const Eigen::Vector3d &X, double s) const;
+};
+
+struct BoundarySpec {
+  std::vector<ClampSet> sets;                // clamped physical groups, then one entry per box (pinned)
+  std::vector<std::array<double, 6>> boxes;  // index in `sets`: numGroups + box index
+  PetscInt rampSteps = -1;                   // -1: the number of steps
+  size_t numGroups() const { return sets.size() - boxes.size(); }
+};
+
+PetscErrorCode readBoundaryOptions(BoundarySpec *spec);
+
+}  // namespace aries::fem

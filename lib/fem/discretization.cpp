@@ -1,0 +1,866 @@
+#include "fem/discretization.hpp"
+
+#include "energies/energy.hpp"
+#include "fem/cell_files.hpp"
+#include "fem/options.hpp"
+#include "fem/errors.hpp"
+
+#include <petscsf.h>
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <sstream>
+
+namespace aries::fem {
+
+using energies::ElementShape;
+template <int Rr, int Cc>
+using EMat = kernels::Mat<Rr, Cc>;
+template <int Nn>
+using EVec = kernels::Vec<Nn>;
+
+namespace {
+
+// Gathers (natural id, values) pairs onto rank 0 into a dense array of `total * comps` values.
+PetscErrorCode gatherNatural(MPI_Comm comm, const std::vector<PetscInt> &ids, const std::vector<double> &vals,
+                             int comps, PetscInt total, std::vector<double> *out) {
+  PetscMPIInt rank, size;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  int n = static_cast<int>(ids.size());
+  std::vector<int> counts(size), displs(size);
+  PetscCallMPI(MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm));
+  int totalIds = 0;
+  if (rank == 0)
+    for (int p = 0; p < size; ++p) {
+      displs[p] = totalIds;
+      totalIds += counts[p];
+    }
+  std::vector<PetscInt> allIds(rank == 0 ? totalIds : 0);
+  PetscCallMPI(MPI_Gatherv(ids.data(), n, MPIU_INT, allIds.data(), counts.data(), displs.data(), MPIU_INT, 0, comm));
+  std::vector<int> vcounts(size), vdispls(size);
+  for (int p = 0; p < size; ++p) {
+    vcounts[p] = counts[p] * comps;
+    vdispls[p] = displs[p] * comps;
+  }
+  std::vector<double> allVals(rank == 0 ? static_cast<size_t>(totalIds) * comps : 0);
+  PetscCallMPI(MPI_Gatherv(vals.data(), n * comps, MPI_DOUBLE, allVals.data(), vcounts.data(), vdispls.data(),
+                           MPI_DOUBLE, 0, comm));
+  out->clear();
+  if (rank == 0) {
+    out->assign(static_cast<size_t>(total) * comps, 0.0);
+    for (int i = 0; i < totalIds; ++i)
+      for (int k = 0; k < comps; ++k) (*out)[static_cast<size_t>(allIds[i]) * comps + k] = allVals[i * comps + k];
+  }
+  PetscFunctionReturn(0);
+}
+
+// Material frame of a rest triangle in 3D: the projection of the global x and y axes onto its plane (so a flat
+// cloth in the xy plane has u = x, v = y whatever its triangles' orientation); falls back to (x,z) / (y,z).
+Eigen::Matrix<double, 3, 2> clothFrame(const Eigen::Vector3d &n) {
+  const Eigen::Vector3d axes[3] = {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitZ()};
+  const int pairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
+  for (const auto &p : pairs) {
+    Eigen::Vector3d e1 = axes[p[0]] - n.dot(axes[p[0]]) * n;
+    if (e1.norm() < 0.3) continue;
+    e1.normalize();
+    Eigen::Vector3d e2 = axes[p[1]] - n.dot(axes[p[1]]) * n;
+    e2 -= e1.dot(e2) * e1;
+    if (e2.norm() < 0.3) continue;
+    Eigen::Matrix<double, 3, 2> E;
+    E << e1, e2.normalized();
+    return E;
+  }
+  Eigen::Matrix<double, 3, 2> E;
+  E << n.unitOrthogonal(), n.cross(n.unitOrthogonal());
+  return E;
+}
+
+}  // namespace
+
+double Discretization::characteristicModulus() const {
+  double m = 0.0;
+  for (const auto &mat : materials_)
+    m = std::max({m, mat.mu, mat.mu1, mat.mu2, mat.weight3.trace() / 3.0, mat.lambda});
+  return m > 0.0 ? m : 1.0;
+}
+
+template <int R, int C>
+class DiscretizationT final : public Discretization {
+ public:
+  static constexpr int NV = C + 1;
+  static constexpr int NDOF = NV * R;
+  static constexpr int NF = R * C;
+
+  PetscErrorCode setup(Mesh &mesh);
+
+  PetscErrorCode setLoad(double s) override {
+    PetscFunctionBeginUser;
+    load_ = s;
+    PetscFunctionReturn(0);
+  }
+  PetscErrorCode fillBoundary(Vec xLocal) const override;
+  PetscErrorCode restPositions(Vec xGlobal) const override;
+  PetscErrorCode setPrediction(Vec xTildeGlobal) override;
+  PetscErrorCode lumpedMass(Vec massGlobal) const override;
+  PetscErrorCode objective(Vec xLocal, PetscReal *value) override;
+  PetscErrorCode gradient(Vec xLocal, Vec gLocal) override;
+  PetscErrorCode hessian(Vec xLocal, Mat J) override;
+  PetscErrorCode elasticEnergy(Vec xLocal, PetscReal *value) override;
+  PetscErrorCode updateBarrierFallback(Vec xLocal, double threshold, PetscInt *count) override;
+  PetscErrorCode cellAlpha(Vec xLocal, std::vector<double> *alpha) const override;
+  PetscErrorCode cellQuantities(Vec xLocal, CellQuantities *q) const override;
+  PetscErrorCode gatherVertexField(Vec xLocal, std::vector<double> *values) const override;
+  PetscErrorCode gatherRestPositions(std::vector<double> *values) const override;
+  PetscErrorCode gatherCellField(const std::vector<double> &perCell, int components,
+                                 std::vector<double> *values) const override;
+  PetscErrorCode gatherTopology(std::vector<PetscInt> *cells) const override;
+  PetscErrorCode cellFibers(std::vector<double> *fibers) const override;
+  int shapeCols() const override { return C; }
+  void forEachOwnedFreeVertex(
+      const std::function<void(PetscInt, PetscInt, const Eigen::Vector3d &)> &fn) const override;
+  PetscErrorCode maxDisplacement(Vec xLocal, PetscReal *value) const override;
+
+ private:
+  struct Cell {
+    std::array<PetscInt, NV> vertex;  // local vertex index (v - vStart)
+    EMat<NV, C> W;                     // F = sum_v x_v W.row(v)   (W = [-1^T Dm^-1; Dm^-1])
+    double measure;                   // rest volume / area
+    int region;                       // material index
+  };
+  struct VertexInfo {
+    PetscInt loc;     // offset of the first dof in the local vector
+    PetscInt global;  // offset of the first dof in the global vector (-1 if Dirichlet); for owned only meaningful
+    bool owned;
+    int bcSet;        // index into bc_.sets, -1 if free
+    Eigen::Vector3d rest;
+  };
+
+  EMat<R, C> deformationGradient(const Cell &cell, const PetscScalar *x) const {
+    EMat<R, C> F = EMat<R, C>::Zero();
+    for (int v = 0; v < NV; ++v) {
+      const PetscScalar *xv = x + verts_[cell.vertex[v]].loc;
+      for (int i = 0; i < R; ++i) F.row(i) += xv[i] * cell.W.row(v);
+    }
+    return F;
+  }
+  const energies::CellData<C> &dataOf(size_t c) const { return cellData_.size() == 1 ? cellData_[0] : cellData_[c]; }
+  const energies::Material &materialOf(size_t c) const {
+    return fallback_.empty() || !fallback_[c] ? materials_[cells_[c].region] : mollified_[cells_[c].region];
+  }
+  PetscErrorCode vertexTermsObjective(const PetscScalar *x, double *E) const;
+
+  std::vector<Cell> cells_;
+  std::vector<VertexInfo> verts_;
+  std::vector<energies::CellData<C>> cellData_;
+  std::vector<std::array<double, 3>> restFibers_;  // per cell, for output (material frame)
+  std::vector<double> mass_;                       // per local vertex
+  std::vector<double> xTilde_;                     // per local dof (dynamics)
+  std::vector<char> fallback_;                     // per cell: barrier -> mollifier (singular elements)
+  std::vector<energies::Material> mollified_;      // materials_ with the barrier replaced by the mollifier
+  bool blockedAssembly_ = true;
+};
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::setup(Mesh &mesh) {
+  MPI_Comm comm;
+  PetscFunctionBeginUser;
+  mesh_ = &mesh;
+  dofs_ = R;
+  DM dm = mesh.dm;
+  PetscCall(PetscObjectGetComm((PetscObject)dm, &comm));
+  const ElementShape shape = mesh.shape;
+
+  // --- materials: global + -regions ----------------------------------------------------------------------------
+  energies::Material base;
+  UniformCellData baseCell;
+  PetscCall(readMaterialOptions(nullptr, shape, nullptr, nullptr, &base, &baseCell));
+  materials_.push_back(base);
+  std::vector<UniformCellData> regionCells{baseCell};
+  std::vector<std::string> regionIds;
+  PetscBool set = PETSC_FALSE;
+  PetscCall(optionWordList(nullptr, "-regions", &regionIds, &set));
+  std::vector<PetscInt> regionTags;
+  for (const auto &rid : regionIds) {
+    double tagd;
+    PetscInt tag;
+    if (parseReal(rid, &tagd)) tag = static_cast<PetscInt>(tagd);
+    else {
+      auto it = mesh.physicalNames.find(rid);
+      if (it == mesh.physicalNames.end() || it->second.dim != mesh.topoDim)
+        SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -regions: '%s' is not a volume physical group of '%s'",
+                rid.c_str(), mesh.filename.c_str());
+      tag = it->second.tag;
+    }
+    const std::string prefix = "region_" + rid + "_";
+    energies::Material m;
+    UniformCellData uc;
+    PetscCall(readMaterialOptions(prefix.c_str(), shape, &base, &baseCell, &m, &uc));
+    materials_.push_back(m);
+    regionCells.push_back(uc);
+    regionTags.push_back(tag);
+  }
+
+  // --- dynamics parameters ---------------------------------------------------------------------------------------
+  PetscCall(optionReal(nullptr, "-density", &dyn_.density, &set));
+  if (set && !(dyn_.density > 0.0))
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -density must be > 0 (got %g)", dyn_.density);
+  std::vector<PetscReal> g;
+  PetscCall(optionRealList(nullptr, "-gravity", &g, &set, R, 3));
+  if (set) {
+    for (size_t k = 0; k < g.size(); ++k) dyn_.gravity[k] = g[k];
+    if (R == 2 && g.size() == 3 && g[2] != 0.0)
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -gravity: a 2D mesh takes gx,gy (z must be 0)");
+  }
+
+  // --- Dirichlet vertices --------------------------------------------------------------------------------------------
+  PetscCall(readBoundaryOptions(&bc_));
+  PetscInt pStart, pEnd;
+  PetscCall(DMPlexGetChart(dm, &pStart, &pEnd));
+  const PetscInt nv = mesh.vEnd - mesh.vStart;
+  std::vector<PetscInt> bcFlag(pEnd - pStart, PETSC_MAX_INT);
+  for (size_t s = 0; s < bc_.numGroups(); ++s) {
+    std::vector<PetscInt> vs;
+    bool found = false;
+    PetscCall(physicalGroupVertices(mesh, bc_.sets[s].id, &vs, &found));
+    if (!found) {
+      std::string known;
+      PetscCall(describePhysicalGroups(mesh, &known));
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+              "option -bc_clamp: boundary set '%s' does not exist in mesh '%s' (physical groups present: %s)",
+              bc_.sets[s].id.c_str(), mesh.filename.c_str(), known.c_str());
+    }
+    for (PetscInt v : vs) bcFlag[v - pStart] = std::min<PetscInt>(bcFlag[v - pStart], static_cast<PetscInt>(s));
+  }
+  Vec coordsLocal;
+  PetscSection coordSection;
+  const PetscScalar *coords;
+  PetscCall(DMGetCoordinatesLocal(dm, &coordsLocal));
+  PetscCall(DMGetCoordinateSection(dm, &coordSection));
+  PetscCall(VecGetArrayRead(coordsLocal, &coords));
+  auto restOf = [&](PetscInt v) {
+    PetscInt off;
+    PetscSectionGetOffset(coordSection, v, &off);
+    Eigen::Vector3d X = Eigen::Vector3d::Zero();
+    for (int d = 0; d < mesh.spaceDim; ++d) X[d] = coords[off + d];
+    return X;
+  };
+  for (size_t b = 0; b < bc_.boxes.size(); ++b) {
+    const auto &bb = bc_.boxes[b];
+    for (PetscInt v = mesh.vStart; v < mesh.vEnd; ++v) {
+      const Eigen::Vector3d X = restOf(v);
+      if (X[0] >= bb[0] && X[0] <= bb[1] && X[1] >= bb[2] && X[1] <= bb[3] && X[2] >= bb[4] && X[2] <= bb[5])
+        bcFlag[v - pStart] = std::min<PetscInt>(bcFlag[v - pStart], static_cast<PetscInt>(bc_.numGroups() + b));
+    }
+  }
+  // Shared vertices: every copy must agree (a boundary face may live on one rank only).
+  PetscSF pointSF;
+  PetscCall(DMGetPointSF(dm, &pointSF));
+  {
+    std::vector<PetscInt> root(bcFlag);
+    PetscCall(PetscSFReduceBegin(pointSF, MPIU_INT, bcFlag.data(), root.data(), MPI_MIN));
+    PetscCall(PetscSFReduceEnd(pointSF, MPIU_INT, bcFlag.data(), root.data(), MPI_MIN));
+    PetscCall(PetscSFBcastBegin(pointSF, MPIU_INT, root.data(), bcFlag.data(), MPI_REPLACE));
+    PetscCall(PetscSFBcastEnd(pointSF, MPIU_INT, root.data(), bcFlag.data(), MPI_REPLACE));
+    for (PetscInt p = pStart; p < pEnd; ++p) bcFlag[p - pStart] = std::min(bcFlag[p - pStart], root[p - pStart]);
+  }
+  std::vector<char> owned(pEnd - pStart, 1);
+  {
+    PetscInt nleaves;
+    const PetscInt *ilocal;
+    PetscCall(PetscSFGetGraph(pointSF, nullptr, &nleaves, &ilocal, nullptr));
+    for (PetscInt i = 0; i < nleaves; ++i) owned[(ilocal ? ilocal[i] : i) - pStart] = 0;
+  }
+
+  // --- section with all components of Dirichlet vertices constrained ---------------------------------------------
+  PetscSection section;
+  PetscCall(PetscSectionCreate(comm, &section));
+  PetscCall(PetscSectionSetNumFields(section, 1));
+  PetscCall(PetscSectionSetFieldComponents(section, 0, R));
+  PetscCall(PetscSectionSetChart(section, pStart, pEnd));
+  for (PetscInt v = mesh.vStart; v < mesh.vEnd; ++v) {
+    PetscCall(PetscSectionSetDof(section, v, R));
+    PetscCall(PetscSectionSetFieldDof(section, v, 0, R));
+    if (bcFlag[v - pStart] != PETSC_MAX_INT) {
+      PetscCall(PetscSectionSetConstraintDof(section, v, R));
+      PetscCall(PetscSectionSetFieldConstraintDof(section, v, 0, R));
+    }
+  }
+  PetscCall(PetscSectionSetUp(section));
+  const PetscInt allComps[3] = {0, 1, 2};
+  for (PetscInt v = mesh.vStart; v < mesh.vEnd; ++v)
+    if (bcFlag[v - pStart] != PETSC_MAX_INT) {
+      PetscCall(PetscSectionSetConstraintIndices(section, v, allComps));
+      PetscCall(PetscSectionSetFieldConstraintIndices(section, v, 0, allComps));
+    }
+  PetscCall(DMSetLocalSection(dm, section));
+  PetscCall(PetscSectionDestroy(&section));
+  PetscCall(DMSetMatType(dm, MATBAIJ));
+  PetscSection localSection, globalSection;
+  PetscCall(DMGetLocalSection(dm, &localSection));
+  PetscCall(DMGetGlobalSection(dm, &globalSection));
+
+  verts_.resize(nv);
+  PetscInt numBcOwned = 0;
+  for (PetscInt v = mesh.vStart; v < mesh.vEnd; ++v) {
+    VertexInfo &vi = verts_[v - mesh.vStart];
+    PetscCall(PetscSectionGetOffset(localSection, v, &vi.loc));
+    vi.owned = owned[v - pStart];
+    vi.bcSet = bcFlag[v - pStart] == PETSC_MAX_INT ? -1 : static_cast<int>(bcFlag[v - pStart]);
+    vi.rest = restOf(v);
+    vi.global = -1;
+    if (vi.bcSet < 0) {
+      PetscInt goff;
+      PetscCall(PetscSectionGetOffset(globalSection, v, &goff));
+      vi.global = goff >= 0 ? goff : -(goff + 1);
+    } else if (vi.owned) {
+      ++numBcOwned;
+    }
+  }
+  PetscCallMPI(MPI_Allreduce(&numBcOwned, &numBcGlobal_, 1, MPIU_INT, MPI_SUM, comm));
+
+  // Clamp centers default to the centroid of each set at rest (owned vertices, all ranks).
+  for (size_t s = 0; s < bc_.sets.size(); ++s) {
+    if (bc_.sets[s].centerGiven) continue;
+    double acc[4] = {0, 0, 0, 0}, tot[4];
+    for (const auto &vi : verts_)
+      if (vi.owned && vi.bcSet == static_cast<int>(s)) {
+        acc[0] += vi.rest[0];
+        acc[1] += vi.rest[1];
+        acc[2] += vi.rest[2];
+        acc[3] += 1.0;
+      }
+    PetscCallMPI(MPI_Allreduce(acc, tot, 4, MPI_DOUBLE, MPI_SUM, comm));
+    if (tot[3] > 0) bc_.sets[s].center = Eigen::Vector3d(tot[0], tot[1], tot[2]) / tot[3];
+  }
+
+  // --- per-cell rest data --------------------------------------------------------------------------------------------
+  DMLabel cellSets = nullptr;
+  PetscCall(DMGetLabel(dm, "Cell Sets", &cellSets));
+  const PetscInt nc = mesh.cEnd - mesh.cStart;
+  cells_.resize(nc);
+  std::vector<double> signedMeasure(nc);
+  for (PetscInt c = mesh.cStart; c < mesh.cEnd; ++c) {
+    Cell &cell = cells_[c - mesh.cStart];
+    PetscInt ncl, *closure = nullptr, k = 0;
+    PetscCall(DMPlexGetTransitiveClosure(dm, c, PETSC_TRUE, &ncl, &closure));
+    for (PetscInt i = 0; i < ncl && k < NV; ++i) {
+      const PetscInt p = closure[2 * i];
+      if (p >= mesh.vStart && p < mesh.vEnd) cell.vertex[k++] = p - mesh.vStart;
+    }
+    PetscCall(DMPlexRestoreTransitiveClosure(dm, c, PETSC_TRUE, &ncl, &closure));
+    // Rest edge matrix in the material frame (C x C).
+    EMat<C, C> Dm;
+    if constexpr (R == 3 && C == 2) {
+      const Eigen::Vector3d X0 = verts_[cell.vertex[0]].rest;
+      const Eigen::Vector3d e1 = verts_[cell.vertex[1]].rest - X0, e2 = verts_[cell.vertex[2]].rest - X0;
+      Eigen::Vector3d n = e1.cross(e2);
+      n = n.norm() > 0.0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d::UnitZ();
+      const Eigen::Matrix<double, 3, 2> E = clothFrame(n);
+      Dm.col(0) = E.transpose() * e1;
+      Dm.col(1) = E.transpose() * e2;
+    } else {
+      for (int k2 = 0; k2 < C; ++k2)
+        Dm.col(k2) = (verts_[cell.vertex[k2 + 1]].rest - verts_[cell.vertex[0]].rest).template head<C>();
+    }
+    const double det = Dm.determinant();
+    signedMeasure[c - mesh.cStart] = det / (C == 3 ? 6.0 : 2.0);
+    cell.measure = std::abs(signedMeasure[c - mesh.cStart]);
+    const EMat<C, C> B = std::abs(det) > 0.0 ? EMat<C, C>(Dm.inverse()) : EMat<C, C>::Zero();
+    cell.W.row(0) = -B.colwise().sum();
+    cell.W.template bottomRows<C>() = B;
+    cell.region = 0;
+    if (cellSets && !regionTags.empty()) {
+      PetscInt val;
+      PetscCall(DMLabelGetValue(cellSets, c, &val));
+      for (size_t r = 0; r < regionTags.size(); ++r)
+        if (regionTags[r] == val) cell.region = static_cast<int>(r + 1);
+    }
+  }
+  PetscCall(VecRestoreArrayRead(coordsLocal, &coords));
+
+  // Degenerate or inverted rest cells: one clear error naming the (natural, 0-based gmsh-order) cell.
+  {
+    double scale = mesh.diagonal;
+    const double tiny = 1e-14 * std::pow(scale, C);
+    long pos = 0, neg = 0;
+    for (double s : signedMeasure) (s > 0 ? pos : neg)++;
+    long tot[2] = {pos, neg}, gtot[2];
+    PetscCallMPI(MPI_Allreduce(tot, gtot, 2, MPI_LONG, MPI_SUM, comm));
+    const double majority = gtot[0] >= gtot[1] ? 1.0 : -1.0;
+    std::string msg;
+    for (PetscInt c = 0; c < nc && msg.empty(); ++c) {
+      const double s = signedMeasure[c];
+      if (std::abs(s) <= tiny) {
+        std::ostringstream o;
+        o << "mesh '" << mesh.filename << "': cell " << mesh.naturalCell[c] << " (0-based, gmsh element order) is "
+          << "degenerate: rest " << (C == 3 ? "volume " : "area ") << s << "; fix or remove it";
+        msg = o.str();
+      } else if (s * majority < 0.0) {
+        std::ostringstream o;
+        o << "mesh '" << mesh.filename << "': cell " << mesh.naturalCell[c] << " (0-based, gmsh element order) is "
+          << "inverted: signed rest " << (C == 3 ? "volume " : "area ") << s * majority
+          << " (its orientation disagrees with the mesh); reorder its nodes";
+        msg = o.str();
+      }
+    }
+    PetscCall(fem::collectiveCheck(comm, !msg.empty(), msg));
+  }
+  double localMeasure = 0.0;
+  for (const auto &cell : cells_) localMeasure += cell.measure;
+  PetscCallMPI(MPI_Allreduce(&localMeasure, &restMeasure_, 1, MPI_DOUBLE, MPI_SUM, comm));
+
+  // --- anisotropy data: uniform from options, per cell from files ---------------------------------------------------
+  bool perCell = regionTags.size() > 0;
+  std::vector<double> fibers, fibers2;
+  std::string fiberFile, fiber2File;
+  PetscBool hasFiberFile = PETSC_FALSE, hasFiber2File = PETSC_FALSE;
+  bool anyFibers = false;
+  for (const auto &m : materials_) anyFibers = anyFibers || energies::energyUsesFibers(m.kind);
+  if (anyFibers) {
+    PetscCall(optionString(nullptr, "-fiber_file", &fiberFile, &hasFiberFile));
+    if (C == 2 && R == 3) PetscCall(optionString(nullptr, "-fiber2_file", &fiber2File, &hasFiber2File));
+  }
+  if (hasFiberFile) PetscCall(readCellVectorFile(comm, fiberFile, "-fiber_file", mesh.numCellsGlobal, C, &fibers));
+  if (hasFiber2File)
+    PetscCall(readCellVectorFile(comm, fiber2File, "-fiber2_file", mesh.numCellsGlobal, C, &fibers2));
+  perCell = perCell || hasFiberFile || hasFiber2File;
+  auto toData = [&](const UniformCellData &u) { return toCellData<C>(u); };
+  if (!perCell) {
+    cellData_.assign(1, toData(baseCell));
+  } else {
+    cellData_.resize(nc);
+    for (PetscInt c = 0; c < nc; ++c) {
+      energies::CellData<C> d = toData(regionCells[cells_[c].region]);
+      const PetscInt nat = mesh.naturalCell[c];
+      if (hasFiberFile) d.a = Eigen::Map<const EVec<C>>(&fibers[static_cast<size_t>(nat) * C]);
+      if (hasFiber2File) d.b = Eigen::Map<const EVec<C>>(&fibers2[static_cast<size_t>(nat) * C]);
+      cellData_[c] = d;
+    }
+  }
+  restFibers_.resize(nc);
+  for (PetscInt c = 0; c < nc; ++c) {
+    const auto &a = dataOf(c).a;
+    restFibers_[c] = {a[0], a[1], C == 3 ? a[C - 1] : 0.0};
+  }
+
+  // --- lumped mass ---------------------------------------------------------------------------------------------------
+  mass_.assign(nv, 0.0);
+  for (const auto &cell : cells_)
+    for (int v = 0; v < NV; ++v) mass_[cell.vertex[v]] += dyn_.density * cell.measure / NV;
+  {
+    // Sum the contributions of all ranks on shared vertices.
+    std::vector<double> leaf(pEnd - pStart, 0.0), root(pEnd - pStart, 0.0);
+    for (PetscInt v = 0; v < nv; ++v) leaf[mesh.vStart + v - pStart] = mass_[v];
+    root = leaf;
+    PetscCall(PetscSFReduceBegin(pointSF, MPI_DOUBLE, leaf.data(), root.data(), MPI_SUM));
+    PetscCall(PetscSFReduceEnd(pointSF, MPI_DOUBLE, leaf.data(), root.data(), MPI_SUM));
+    PetscCall(PetscSFBcastBegin(pointSF, MPI_DOUBLE, root.data(), leaf.data(), MPI_REPLACE));
+    PetscCall(PetscSFBcastEnd(pointSF, MPI_DOUBLE, root.data(), leaf.data(), MPI_REPLACE));
+    for (PetscInt v = 0; v < nv; ++v) mass_[v] = owned[mesh.vStart + v - pStart] ? root[mesh.vStart + v - pStart] : leaf[mesh.vStart + v - pStart];
+  }
+  PetscInt localSize;
+  PetscCall(PetscSectionGetStorageSize(localSection, &localSize));
+  xTilde_.assign(localSize, 0.0);
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::fillBoundary(Vec xLocal) const {
+  PetscScalar *x;
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArray(xLocal, &x));
+  for (const auto &vi : verts_)
+    if (vi.bcSet >= 0) {
+      const Eigen::Vector3d t = bc_.sets[vi.bcSet].target(vi.rest, load_);
+      for (int i = 0; i < R; ++i) x[vi.loc + i] = t[i];
+    }
+  PetscCall(VecRestoreArray(xLocal, &x));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::restPositions(Vec xGlobal) const {
+  PetscScalar *x;
+  PetscInt lo;
+  PetscFunctionBeginUser;
+  PetscCall(VecGetOwnershipRange(xGlobal, &lo, nullptr));
+  PetscCall(VecGetArray(xGlobal, &x));
+  for (const auto &vi : verts_)
+    if (vi.owned && vi.bcSet < 0)
+      for (int i = 0; i < R; ++i) x[vi.global - lo + i] = vi.rest[i];
+  PetscCall(VecRestoreArray(xGlobal, &x));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+void DiscretizationT<R, C>::forEachOwnedFreeVertex(
+    const std::function<void(PetscInt, PetscInt, const Eigen::Vector3d &)> &fn) const {
+  for (size_t v = 0; v < verts_.size(); ++v) {
+    const auto &vi = verts_[v];
+    if (vi.owned && vi.bcSet < 0) fn(mesh_->naturalVertex[v], vi.global, vi.rest);
+  }
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::setPrediction(Vec xTildeGlobal) {
+  Vec loc;
+  const PetscScalar *x;
+  PetscFunctionBeginUser;
+  PetscCall(DMGetLocalVector(mesh_->dm, &loc));
+  PetscCall(DMGlobalToLocal(mesh_->dm, xTildeGlobal, INSERT_VALUES, loc));
+  PetscCall(VecGetArrayRead(loc, &x));
+  std::copy(x, x + xTilde_.size(), xTilde_.begin());
+  PetscCall(VecRestoreArrayRead(loc, &x));
+  PetscCall(DMRestoreLocalVector(mesh_->dm, &loc));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::lumpedMass(Vec massGlobal) const {
+  PetscScalar *m;
+  PetscInt lo;
+  PetscFunctionBeginUser;
+  PetscCall(VecGetOwnershipRange(massGlobal, &lo, nullptr));
+  PetscCall(VecGetArray(massGlobal, &m));
+  for (size_t v = 0; v < verts_.size(); ++v) {
+    const auto &vi = verts_[v];
+    if (vi.owned && vi.bcSet < 0)
+      for (int i = 0; i < R; ++i) m[vi.global - lo + i] = mass_[v];
+  }
+  PetscCall(VecRestoreArray(massGlobal, &m));
+  PetscFunctionReturn(0);
+}
+
+// Inertia and gravity on owned free vertices: sum_v m_v [ |x_v - x~_v|^2 / (2 dt^2) - g . x_v ].
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::vertexTermsObjective(const PetscScalar *x, double *E) const {
+  PetscFunctionBeginUser;
+  const bool inertia = dyn_.dt > 0.0, grav = dyn_.gravity.squaredNorm() > 0.0;
+  double e = 0.0;
+  if (inertia || grav)
+    for (size_t v = 0; v < verts_.size(); ++v) {
+      const auto &vi = verts_[v];
+      if (!vi.owned || vi.bcSet >= 0) continue;
+      for (int i = 0; i < R; ++i) {
+        const double xi = x[vi.loc + i];
+        if (inertia) {
+          const double d = xi - xTilde_[vi.loc + i];
+          e += 0.5 * mass_[v] * d * d / (dyn_.dt * dyn_.dt);
+        }
+        if (grav) e -= mass_[v] * dyn_.gravity[i] * xi;
+      }
+    }
+  *E = e;
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::elasticEnergy(Vec xLocal, PetscReal *value) {
+  const PetscScalar *x;
+  MPI_Comm comm;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetComm((PetscObject)mesh_->dm, &comm));
+  PetscCall(VecGetArrayRead(xLocal, &x));
+  double e = 0.0;
+  for (size_t c = 0; c < cells_.size(); ++c) {
+    const Cell &cell = cells_[c];
+    const auto d = energies::evaluateEnergy<R, C>(materialOf(c), dataOf(c), deformationGradient(cell, x),
+                                                  kernels::Order::Value);
+    e += cell.measure * d.value;
+  }
+  PetscCall(VecRestoreArrayRead(xLocal, &x));
+  PetscCallMPI(MPI_Allreduce(&e, value, 1, MPI_DOUBLE, MPI_SUM, comm));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::objective(Vec xLocal, PetscReal *value) {
+  const PetscScalar *x;
+  MPI_Comm comm;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetComm((PetscObject)mesh_->dm, &comm));
+  PetscCall(VecGetArrayRead(xLocal, &x));
+  double e = 0.0;
+  for (size_t c = 0; c < cells_.size(); ++c) {
+    const Cell &cell = cells_[c];
+    const auto d = energies::evaluateEnergy<R, C>(materialOf(c), dataOf(c), deformationGradient(cell, x),
+                                                  kernels::Order::Value);
+    e += cell.measure * d.value;
+  }
+  double ev = 0.0;
+  PetscCall(vertexTermsObjective(x, &ev));
+  PetscCall(VecRestoreArrayRead(xLocal, &x));
+  e += ev;
+  if (std::isnan(e)) e = PETSC_INFINITY;  // an undefined state is never accepted by the line search
+  PetscCallMPI(MPI_Allreduce(&e, value, 1, MPI_DOUBLE, MPI_SUM, comm));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::gradient(Vec xLocal, Vec gLocal) {
+  const PetscScalar *x;
+  PetscScalar *g;
+  PetscFunctionBeginUser;
+  PetscCall(VecSet(gLocal, 0.0));
+  PetscCall(VecGetArrayRead(xLocal, &x));
+  PetscCall(VecGetArray(gLocal, &g));
+  for (size_t c = 0; c < cells_.size(); ++c) {
+    const Cell &cell = cells_[c];
+    const auto d = energies::evaluateEnergy<R, C>(materialOf(c), dataOf(c), deformationGradient(cell, x),
+                                                  kernels::Order::Gradient);
+    const EMat<R, C> P = cell.measure * kernels::unflatten<R, C>(d.grad);
+    for (int v = 0; v < NV; ++v) {
+      const EVec<R> gv = P * cell.W.row(v).transpose();
+      PetscScalar *gp = g + verts_[cell.vertex[v]].loc;
+      for (int i = 0; i < R; ++i) gp[i] += gv[i];
+    }
+  }
+  const bool inertia = dyn_.dt > 0.0, grav = dyn_.gravity.squaredNorm() > 0.0;
+  if (inertia || grav)
+    for (size_t v = 0; v < verts_.size(); ++v) {
+      const auto &vi = verts_[v];
+      if (!vi.owned || vi.bcSet >= 0) continue;
+      for (int i = 0; i < R; ++i) {
+        if (inertia) g[vi.loc + i] += mass_[v] * (x[vi.loc + i] - xTilde_[vi.loc + i]) / (dyn_.dt * dyn_.dt);
+        if (grav) g[vi.loc + i] -= mass_[v] * dyn_.gravity[i];
+      }
+    }
+  PetscCall(VecRestoreArray(gLocal, &g));
+  PetscCall(VecRestoreArrayRead(xLocal, &x));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::hessian(Vec xLocal, Mat J) {
+  const PetscScalar *x;
+  PetscFunctionBeginUser;
+  PetscInt bs;
+  PetscCall(MatGetBlockSize(J, &bs));
+  blockedAssembly_ = bs == R;
+  PetscCall(MatZeroEntries(J));
+  PetscCall(VecGetArrayRead(xLocal, &x));
+  Eigen::Matrix<double, NDOF, NDOF, Eigen::RowMajor> K;
+  for (size_t c = 0; c < cells_.size(); ++c) {
+    const Cell &cell = cells_[c];
+    const auto d = energies::evaluateEnergy<R, C>(materialOf(c), dataOf(c), deformationGradient(cell, x),
+                                                  kernels::Order::Hessian);
+    const EMat<NF, NF> H = cell.measure * kernels::projectToPSD<NF>(d.hess);
+    // K[(v,i),(u,k)] = sum_jl H[(i,j),(k,l)] W(v,j) W(u,l)
+    Eigen::Matrix<double, NF, NDOF> HB;  // H * B, B[(k,l),(u,k')] = delta_kk' W(u,l)
+    for (int row = 0; row < NF; ++row)
+      for (int u = 0; u < NV; ++u)
+        for (int k = 0; k < R; ++k) {
+          double s = 0.0;
+          for (int l = 0; l < C; ++l) s += H(row, k * C + l) * cell.W(u, l);
+          HB(row, u * R + k) = s;
+        }
+    for (int v = 0; v < NV; ++v)
+      for (int i = 0; i < R; ++i)
+        for (int col = 0; col < NDOF; ++col) {
+          double s = 0.0;
+          for (int j = 0; j < C; ++j) s += cell.W(v, j) * HB(i * C + j, col);
+          K(v * R + i, col) = s;
+        }
+    if (blockedAssembly_) {
+      PetscInt rows[NV];
+      for (int v = 0; v < NV; ++v) {
+        const auto &vi = verts_[cell.vertex[v]];
+        rows[v] = vi.bcSet >= 0 ? -1 : vi.global / R;
+      }
+      PetscCall(MatSetValuesBlocked(J, NV, rows, NV, rows, K.data(), ADD_VALUES));
+    } else {
+      PetscInt rows[NDOF];
+      for (int v = 0; v < NV; ++v) {
+        const auto &vi = verts_[cell.vertex[v]];
+        for (int i = 0; i < R; ++i) rows[v * R + i] = vi.bcSet >= 0 ? -1 : vi.global + i;
+      }
+      PetscCall(MatSetValues(J, NDOF, rows, NDOF, rows, K.data(), ADD_VALUES));
+    }
+  }
+  if (dyn_.dt > 0.0)
+    for (size_t v = 0; v < verts_.size(); ++v) {
+      const auto &vi = verts_[v];
+      if (!vi.owned || vi.bcSet >= 0) continue;
+      for (int i = 0; i < R; ++i) {
+        const PetscInt row = vi.global + i;
+        const PetscScalar m = mass_[v] / (dyn_.dt * dyn_.dt);
+        PetscCall(MatSetValues(J, 1, &row, 1, &row, &m, ADD_VALUES));
+      }
+    }
+  PetscCall(VecRestoreArrayRead(xLocal, &x));
+  PetscCall(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::updateBarrierFallback(Vec xLocal, double threshold, PetscInt *count) {
+  MPI_Comm comm;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetComm((PetscObject)mesh_->dm, &comm));
+  bool anyBarrier = false;
+  for (const auto &m : materials_) anyBarrier = anyBarrier || m.singularity.mode == energies::SingularityMode::Barrier;
+  PetscInt local = 0;
+  if (anyBarrier) {
+    if (mollified_.empty()) {
+      mollified_ = materials_;
+      for (auto &m : mollified_)
+        if (m.singularity.mode == energies::SingularityMode::Barrier) m.singularity.mode = energies::SingularityMode::Mollifier;
+    }
+    std::vector<double> alpha;
+    PetscCall(cellAlpha(xLocal, &alpha));
+    fallback_.assign(cells_.size(), 0);
+    for (size_t c = 0; c < cells_.size(); ++c)
+      if (!(alpha[c] > threshold)) {
+        fallback_[c] = 1;
+        ++local;
+      }
+  }
+  PetscCallMPI(MPI_Allreduce(&local, count, 1, MPIU_INT, MPI_SUM, comm));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::cellAlpha(Vec xLocal, std::vector<double> *alpha) const {
+  const PetscScalar *x;
+  PetscFunctionBeginUser;
+  alpha->resize(cells_.size());
+  PetscCall(VecGetArrayRead(xLocal, &x));
+  for (size_t c = 0; c < cells_.size(); ++c) (*alpha)[c] = energies::elementAlpha<R, C>(deformationGradient(cells_[c], x));
+  PetscCall(VecRestoreArrayRead(xLocal, &x));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::cellQuantities(Vec xLocal, CellQuantities *q) const {
+  const PetscScalar *x;
+  PetscFunctionBeginUser;
+  q->alpha.resize(cells_.size());
+  q->energyDensity.resize(cells_.size());
+  PetscCall(VecGetArrayRead(xLocal, &x));
+  for (size_t c = 0; c < cells_.size(); ++c) {
+    const Cell &cell = cells_[c];
+    const EMat<R, C> F = deformationGradient(cell, x);
+    q->alpha[c] = energies::elementAlpha<R, C>(F);
+    q->energyDensity[c] =
+        energies::evaluateEnergy<R, C>(materialOf(c), dataOf(c), F, kernels::Order::Value).value;
+  }
+  PetscCall(VecRestoreArrayRead(xLocal, &x));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::maxDisplacement(Vec xLocal, PetscReal *value) const {
+  const PetscScalar *x;
+  MPI_Comm comm;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetComm((PetscObject)mesh_->dm, &comm));
+  PetscCall(VecGetArrayRead(xLocal, &x));
+  double m = 0.0;
+  for (const auto &vi : verts_) {
+    double d2 = 0.0;
+    for (int i = 0; i < R; ++i) d2 += (x[vi.loc + i] - vi.rest[i]) * (x[vi.loc + i] - vi.rest[i]);
+    m = std::max(m, std::sqrt(d2));
+  }
+  PetscCall(VecRestoreArrayRead(xLocal, &x));
+  PetscCallMPI(MPI_Allreduce(&m, value, 1, MPI_DOUBLE, MPI_MAX, comm));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::gatherVertexField(Vec xLocal, std::vector<double> *values) const {
+  const PetscScalar *x;
+  MPI_Comm comm;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetComm((PetscObject)mesh_->dm, &comm));
+  std::vector<PetscInt> ids;
+  std::vector<double> vals;
+  PetscCall(VecGetArrayRead(xLocal, &x));
+  for (size_t v = 0; v < verts_.size(); ++v) {
+    if (!verts_[v].owned) continue;
+    ids.push_back(mesh_->naturalVertex[v]);
+    for (int i = 0; i < 3; ++i) vals.push_back(i < R ? x[verts_[v].loc + i] : 0.0);
+  }
+  PetscCall(VecRestoreArrayRead(xLocal, &x));
+  PetscCall(gatherNatural(comm, ids, vals, 3, mesh_->numVerticesGlobal, values));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::gatherRestPositions(std::vector<double> *values) const {
+  MPI_Comm comm;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetComm((PetscObject)mesh_->dm, &comm));
+  std::vector<PetscInt> ids;
+  std::vector<double> vals;
+  for (size_t v = 0; v < verts_.size(); ++v) {
+    if (!verts_[v].owned) continue;
+    ids.push_back(mesh_->naturalVertex[v]);
+    for (int i = 0; i < 3; ++i) vals.push_back(verts_[v].rest[i]);
+  }
+  PetscCall(gatherNatural(comm, ids, vals, 3, mesh_->numVerticesGlobal, values));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::gatherCellField(const std::vector<double> &perCell, int components,
+                                                      std::vector<double> *values) const {
+  MPI_Comm comm;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetComm((PetscObject)mesh_->dm, &comm));
+  PetscCall(gatherNatural(comm, mesh_->naturalCell, perCell, components, mesh_->numCellsGlobal, values));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::gatherTopology(std::vector<PetscInt> *cellsOut) const {
+  MPI_Comm comm;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetComm((PetscObject)mesh_->dm, &comm));
+  std::vector<double> conn;
+  for (const auto &cell : cells_)
+    for (int v = 0; v < NV; ++v) conn.push_back(static_cast<double>(mesh_->naturalVertex[cell.vertex[v]]));
+  std::vector<double> all;
+  PetscCall(gatherNatural(comm, mesh_->naturalCell, conn, NV, mesh_->numCellsGlobal, &all));
+  cellsOut->resize(all.size());
+  for (size_t i = 0; i < all.size(); ++i) (*cellsOut)[i] = static_cast<PetscInt>(all[i]);
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::cellFibers(std::vector<double> *fibers) const {
+  PetscFunctionBeginUser;
+  fibers->clear();
+  for (const auto &f : restFibers_) fibers->insert(fibers->end(), f.begin(), f.end());
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Discretization::create(Mesh &mesh, std::unique_ptr<Discretization> *out) {
+  PetscFunctionBeginUser;
+  switch (mesh.shape) {
+    case ElementShape::Tet: {
+      auto d = std::make_unique<DiscretizationT<3, 3>>();
+      PetscCall(d->setup(mesh));
+      *out = std::move(d);
+      break;
+    }
+    case ElementShape::Planar: {
+      auto d = std::make_unique<DiscretizationT<2, 2>>();
+      PetscCall(d->setup(mesh));
+      *out = std::move(d);
+      break;
+    }
+    case ElementShape::Cloth: {
+      auto d = std::make_unique<DiscretizationT<3, 2>>();
+      PetscCall(d->setup(mesh));
+      *out = std::move(d);
+      break;
+    }
+  }
+  PetscFunctionReturn(0);
+}
+
+}  // namespace aries::fem

@@ -1,0 +1,108 @@
+// The finite-element discretization: per-vertex position unknowns on the DMPlex, Dirichlet vertices eliminated
+// through constrained section dofs, per-cell rest data cached once (Dm^-1, rest measure, material, anisotropy
+// data), and the assembly of the energy, its gradient and its PSD-projected Hessian (BAIJ) from the closed-form
+// element kernels. One implementation per element shape (tet 3x3, planar 2x2, cloth 3x2), behind this interface.
+//
+// The unknown is the current position x (not the displacement); the global vector holds the free dofs only and a
+// local vector additionally holds ghost and Dirichlet values (fillBoundary writes the latter).
+#pragma once
+
+#include "energies/material.hpp"
+#include "fem/boundary.hpp"
+#include "fem/material_options.hpp"
+#include "fem/mesh.hpp"
+
+#include <petscmat.h>
+
+#include <functional>
+#include <memory>
+
+namespace aries::fem {
+
+struct DynamicsTerms {
+  double dt = 0.0;           // 0: static (no inertia)
+  Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
+  double density = 1000.0;
+};
+
+// Per-cell quantities of a state, on the local cells.
+struct CellQuantities {
+  std::vector<double> alpha;          // singularity measure
+  std::vector<double> energyDensity;  // Psi(F) per unit rest measure
+};
+
+class Discretization {
+ public:
+  virtual ~Discretization() = default;
+  // Reads the material (global and -regions), -fiber_file, -density, -gravity and the boundary options; builds the
+  // section, the rest data and the mass. Collective.
+  static PetscErrorCode create(Mesh &mesh, std::unique_ptr<Discretization> *out);
+
+  DM dm() const { return mesh_->dm; }
+  const Mesh &mesh() const { return *mesh_; }
+  PetscInt dofsPerVertex() const { return dofs_; }
+  const BoundarySpec &boundary() const { return bc_; }
+  PetscInt numBoundaryVerticesGlobal() const { return numBcGlobal_; }
+  double restMeasureGlobal() const { return restMeasure_; }
+  const energies::Material &material(int region = 0) const { return materials_[region]; }
+  double characteristicModulus() const;  // largest shear-like modulus (for scaling tolerances and reports)
+  DynamicsTerms &dynamics() { return dyn_; }
+
+  // Load parameter of the prescribed motion (0 = rest, 1 = full), and the resulting Dirichlet values.
+  double load() const { return load_; }
+  virtual PetscErrorCode setLoad(double s) = 0;
+  virtual PetscErrorCode fillBoundary(Vec xLocal) const = 0;
+
+  // Rest positions of the free dofs (global vector).
+  virtual PetscErrorCode restPositions(Vec xGlobal) const = 0;
+
+  // Inertia: the predicted positions x~ = x_n + dt v_n (global, free dofs) for the incremental potential
+  // 1/(2 dt^2) |x - x~|_M^2; gravity enters as -M g . x. Static runs keep dt = 0.
+  virtual PetscErrorCode setPrediction(Vec xTildeGlobal) = 0;
+  virtual PetscErrorCode lumpedMass(Vec massGlobal) const = 0;  // per free dof
+
+  // Total potential (elastic + inertia + gravity) and its derivatives at a local state (boundary filled).
+  virtual PetscErrorCode objective(Vec xLocal, PetscReal *value) = 0;
+  virtual PetscErrorCode gradient(Vec xLocal, Vec gLocal) = 0;  // gLocal zeroed here; add to global with ADD_VALUES
+  virtual PetscErrorCode hessian(Vec xLocal, Mat J) = 0;        // assembled, PSD-projected per element
+  // Barrier mode at singular elements (paper Sec. 7.1): elements whose alpha is below `threshold` in this state are
+  // evaluated with the mollifier instead of the aberration barrier (b is undefined at alpha = 0) until a later
+  // call finds them above it. Called at the start of each step, so every Newton solve sees one fixed energy.
+  // Returns the number of such elements (collective).
+  virtual PetscErrorCode updateBarrierFallback(Vec xLocal, double threshold, PetscInt *count) = 0;
+  // Elastic energy only (for reports).
+  virtual PetscErrorCode elasticEnergy(Vec xLocal, PetscReal *value) = 0;
+
+  // alpha of every local cell at a local state; minimum over all cells (collective).
+  virtual PetscErrorCode cellAlpha(Vec xLocal, std::vector<double> *alpha) const = 0;
+  virtual PetscErrorCode cellQuantities(Vec xLocal, CellQuantities *q) const = 0;
+
+  // Output in natural (serial gmsh) order, gathered on rank 0 (empty elsewhere).
+  virtual PetscErrorCode gatherVertexField(Vec xLocal, std::vector<double> *values) const = 0;   // positions (x3)
+  virtual PetscErrorCode gatherRestPositions(std::vector<double> *values) const = 0;              // (x3)
+  virtual PetscErrorCode gatherCellField(const std::vector<double> &perCell, int components,
+                                         std::vector<double> *values) const = 0;
+  virtual PetscErrorCode gatherTopology(std::vector<PetscInt> *cells) const = 0;  // natural vertex ids per cell
+  virtual PetscErrorCode cellFibers(std::vector<double> *fibers) const = 0;       // local cells, 3 comps (rest)
+  PetscInt verticesPerCell() const { return shapeCols() + 1; }
+  virtual int shapeCols() const = 0;
+
+  // Free (non-Dirichlet) owned vertices: (natural id, global offset of its first dof, rest position).
+  virtual void forEachOwnedFreeVertex(const std::function<void(PetscInt natural, PetscInt globalOffset,
+                                                               const Eigen::Vector3d &rest)> &fn) const = 0;
+
+  // Maximum distance of any vertex to its rest position (collective).
+  virtual PetscErrorCode maxDisplacement(Vec xLocal, PetscReal *value) const = 0;
+
+ protected:
+  Mesh *mesh_ = nullptr;
+  PetscInt dofs_ = 3;
+  BoundarySpec bc_;
+  PetscInt numBcGlobal_ = 0;
+  double restMeasure_ = 0.0;
+  std::vector<energies::Material> materials_;
+  DynamicsTerms dyn_;
+  double load_ = 0.0;
+};
+
+}  // namespace aries::fem

@@ -1,0 +1,353 @@
+#include "fem/mesh.hpp"
+
+#include "fem/options.hpp"
+
+#include <metis.h>
+#include <petscsf.h>
+
+#include <cstdio>
+#include <fstream>
+#include <numeric>
+#include <set>
+#include <sstream>
+
+static_assert(sizeof(idx_t) == sizeof(PetscInt), "Debian METIS idx_t must match PetscInt (32-bit)");
+
+namespace aries::fem {
+
+Mesh::~Mesh() {
+  if (dm) DMDestroy(&dm);
+}
+
+namespace {
+
+// $PhysicalNames of a gmsh file (MSH 2 and 4 share the section format): tag -> name. Rank 0 reads, all receive.
+PetscErrorCode readPhysicalNames(MPI_Comm comm, const std::string &file,
+                                 std::map<std::string, Mesh::PhysicalGroup> *names) {
+  PetscMPIInt rank;
+  std::string blob;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank == 0) {
+    std::ifstream in(file);
+    std::string line;
+    while (std::getline(in, line)) {
+      if (line.rfind("$PhysicalNames", 0) == 0) {
+        int n = 0;
+        if (!(in >> n)) break;
+        for (int i = 0; i < n; ++i) {
+          int dim, tag;
+          std::string name;
+          if (!(in >> dim >> tag)) break;
+          std::getline(in, name);
+          const auto a = name.find('"'), b = name.rfind('"');
+          if (a != std::string::npos && b > a)
+            blob += std::to_string(dim) + " " + std::to_string(tag) + " " + name.substr(a + 1, b - a - 1) + "\n";
+        }
+        break;
+      }
+      if (line.rfind("$Nodes", 0) == 0) break;  // names come before nodes
+    }
+  }
+  int len = static_cast<int>(blob.size());
+  PetscCallMPI(MPI_Bcast(&len, 1, MPI_INT, 0, comm));
+  blob.resize(len);
+  PetscCallMPI(MPI_Bcast(blob.data(), len, MPI_CHAR, 0, comm));
+  std::istringstream lines(blob);
+  std::string l;
+  while (std::getline(lines, l)) {
+    std::istringstream fields(l);
+    long dim, tag;
+    fields >> dim >> tag;
+    std::string name;
+    std::getline(fields, name);
+    (*names)[name.substr(1)] = {static_cast<PetscInt>(dim), static_cast<PetscInt>(tag)};
+  }
+  PetscFunctionReturn(0);
+}
+
+// METIS k-way partition of the serial mesh's dual graph on rank 0, handed to the shell partitioner.
+PetscErrorCode setMetisPartition(DM dm, PetscPartitioner part) {
+  PetscMPIInt size;
+  PetscInt nv = 0, *offsets = nullptr, *adjacency = nullptr;
+  IS globalNumbering = nullptr;
+  MPI_Comm comm;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetComm((PetscObject)dm, &comm));
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCall(DMPlexCreatePartitionerGraph(dm, 0, &nv, &offsets, &adjacency, &globalNumbering));
+  std::vector<PetscInt> sizes(size, 0), points(nv);
+  if (nv > 0) {
+    std::vector<idx_t> partOf(nv, 0);
+    idx_t nvtxs = nv, ncon = 1, nparts = size, objval = 0;
+    idx_t options[METIS_NOPTIONS];
+    METIS_SetDefaultOptions(options);
+    options[METIS_OPTION_SEED] = 42;  // deterministic partitions
+    options[METIS_OPTION_NUMBERING] = 0;
+    const int status = METIS_PartGraphKway(&nvtxs, &ncon, offsets, adjacency, nullptr, nullptr, nullptr, &nparts,
+                                           nullptr, nullptr, options, &objval, partOf.data());
+    PetscCheck(status == METIS_OK, comm, PETSC_ERR_LIB, "METIS_PartGraphKway failed (status %d)", status);
+    for (PetscInt c = 0; c < nv; ++c) sizes[partOf[c]]++;
+    std::vector<PetscInt> start(size, 0);
+    for (int p = 1; p < size; ++p) start[p] = start[p - 1] + sizes[p - 1];
+    for (PetscInt c = 0; c < nv; ++c) points[start[partOf[c]]++] = c;
+  }
+  PetscCall(PetscPartitionerSetType(part, PETSCPARTITIONERSHELL));
+  PetscCall(PetscPartitionerShellSetPartition(part, size, sizes.data(), points.data()));
+  PetscCall(PetscFree(offsets));
+  PetscCall(PetscFree(adjacency));
+  PetscCall(ISDestroy(&globalNumbering));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode checkReadable(MPI_Comm comm, const std::string &file) {
+  PetscMPIInt rank;
+  int ok = 0;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank == 0) {
+    std::FILE *f = std::fopen(file.c_str(), "rb");
+    if (f) {
+      ok = 1;
+      std::fclose(f);
+    }
+  }
+  PetscCallMPI(MPI_Bcast(&ok, 1, MPI_INT, 0, comm));
+  if (!ok)
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN,
+            "mesh file '%s' (-dm_plex_filename) does not exist or is not readable; generate scene meshes with "
+            "meshes/generate.sh NAME",
+            file.c_str());
+  PetscFunctionReturn(0);
+}
+
+}  // namespace
+
+PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh) {
+  PetscMPIInt size, rank;
+  PetscBool set = PETSC_FALSE;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCall(optionString(nullptr, "-dm_plex_filename", &mesh->filename, &set));
+  if (!set) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "no mesh: give -dm_plex_filename FILE.msh (gmsh format)");
+  std::string partitioner = "metis";
+  PetscCall(optionString(nullptr, "-partitioner", &partitioner, nullptr));
+  if (partitioner != "metis" && partitioner != "ptscotch")
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -partitioner: '%s' is not metis|ptscotch",
+            partitioner.c_str());
+  PetscCall(checkReadable(comm, mesh->filename));
+  PetscCall(readPhysicalNames(comm, mesh->filename, &mesh->physicalNames));
+
+  DM serial = nullptr;
+  PetscCall(DMPlexCreateFromFile(comm, mesh->filename.c_str(), "aries", PETSC_TRUE, &serial));
+  PetscCall(DMGetDimension(serial, &mesh->topoDim));
+  PetscCall(DMGetCoordinateDim(serial, &mesh->spaceDim));
+  if (mesh->topoDim == 3 && mesh->spaceDim == 3) mesh->shape = energies::ElementShape::Tet;
+  else if (mesh->topoDim == 2 && mesh->spaceDim == 3) mesh->shape = energies::ElementShape::Cloth;
+  else if (mesh->topoDim == 2 && mesh->spaceDim == 2) mesh->shape = energies::ElementShape::Planar;
+  else
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+            "mesh '%s' has %d-dimensional cells in %d-dimensional space; aries supports tetrahedra in 3D and "
+            "triangles in 2D or 3D (for triangles in 3D pass -dm_plex_gmsh_spacedim 3)",
+            mesh->filename.c_str(), (int)mesh->topoDim, (int)mesh->spaceDim);
+
+  // Serial vertex numbering start (for natural vertex ids), known on rank 0.
+  PetscInt serialVStart = 0, serialVEnd = 0, serialCEnd = 0, tmp = 0;
+  PetscCall(DMPlexGetDepthStratum(serial, 0, &serialVStart, &serialVEnd));
+  PetscCall(DMPlexGetHeightStratum(serial, 0, &tmp, &serialCEnd));
+  {
+    PetscInt counts[3] = {serialVStart, serialVEnd - serialVStart, serialCEnd};
+    PetscCallMPI(MPI_Bcast(counts, 3, MPIU_INT, 0, comm));
+    serialVStart = counts[0];
+    mesh->numVerticesGlobal = counts[1];
+    mesh->numCellsGlobal = counts[2];
+  }
+
+  PetscSF migration = nullptr;
+  if (size > 1) {
+    PetscPartitioner part;
+    PetscCall(DMPlexGetPartitioner(serial, &part));
+    if (partitioner == "metis") PetscCall(setMetisPartition(serial, part));
+    else PetscCall(PetscPartitionerSetType(part, PETSCPARTITIONERPTSCOTCH));
+    DM dist = nullptr;
+    PetscCall(DMPlexDistribute(serial, 0, &migration, &dist));
+    if (dist) {
+      PetscCall(DMDestroy(&serial));
+      serial = dist;
+    }
+  }
+  mesh->dm = serial;
+  PetscCall(PetscObjectSetName((PetscObject)mesh->dm, "aries_mesh"));
+  PetscCall(DMPlexGetHeightStratum(mesh->dm, 0, &mesh->cStart, &mesh->cEnd));
+  PetscCall(DMPlexGetDepthStratum(mesh->dm, 0, &mesh->vStart, &mesh->vEnd));
+
+  // Natural ids from the migration SF (leaf -> serial point on rank 0); identity on one rank.
+  mesh->naturalCell.resize(mesh->cEnd - mesh->cStart);
+  mesh->naturalVertex.resize(mesh->vEnd - mesh->vStart);
+  std::iota(mesh->naturalCell.begin(), mesh->naturalCell.end(), 0);
+  for (PetscInt v = mesh->vStart; v < mesh->vEnd; ++v) mesh->naturalVertex[v - mesh->vStart] = v - serialVStart;
+  if (migration) {
+    PetscInt nroots, nleaves;
+    const PetscInt *ilocal;
+    const PetscSFNode *iremote;
+    PetscCall(PetscSFGetGraph(migration, &nroots, &nleaves, &ilocal, &iremote));
+    for (PetscInt i = 0; i < nleaves; ++i) {
+      const PetscInt p = ilocal ? ilocal[i] : i;
+      const PetscInt orig = iremote[i].index;
+      if (p >= mesh->cStart && p < mesh->cEnd) mesh->naturalCell[p - mesh->cStart] = orig;
+      if (p >= mesh->vStart && p < mesh->vEnd) mesh->naturalVertex[p - mesh->vStart] = orig - serialVStart;
+    }
+    PetscCall(PetscSFDestroy(&migration));
+  }
+
+  // Only simplices.
+  bool bad = false;
+  for (PetscInt c = mesh->cStart; c < mesh->cEnd && !bad; ++c) {
+    DMPolytopeType ct;
+    PetscCall(DMPlexGetCellType(mesh->dm, c, &ct));
+    bad = !(ct == DM_POLYTOPE_TETRAHEDRON || ct == DM_POLYTOPE_TRIANGLE);
+  }
+  int anyBad = bad, globalBad = 0;
+  PetscCallMPI(MPI_Allreduce(&anyBad, &globalBad, 1, MPI_INT, MPI_MAX, comm));
+  if (globalBad)
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+            "mesh '%s' contains cells that are not tetrahedra/triangles; aries supports linear simplices only",
+            mesh->filename.c_str());
+
+  // Rest bounding box and its diagonal L.
+  Vec coords;
+  PetscInt n;
+  const PetscScalar *x;
+  PetscCall(DMGetCoordinatesLocal(mesh->dm, &coords));
+  PetscCall(VecGetLocalSize(coords, &n));
+  PetscCall(VecGetArrayRead(coords, &x));
+  double lo[3] = {PETSC_MAX_REAL, PETSC_MAX_REAL, PETSC_MAX_REAL}, hi[3] = {-PETSC_MAX_REAL, -PETSC_MAX_REAL, -PETSC_MAX_REAL};
+  if (mesh->spaceDim == 2) lo[2] = hi[2] = 0.0;
+  for (PetscInt i = 0; i < n; i += mesh->spaceDim)
+    for (int d = 0; d < mesh->spaceDim; ++d) {
+      lo[d] = std::min(lo[d], (double)x[i + d]);
+      hi[d] = std::max(hi[d], (double)x[i + d]);
+    }
+  PetscCall(VecRestoreArrayRead(coords, &x));
+  double glo[3], ghi[3];
+  PetscCallMPI(MPI_Allreduce(lo, glo, 3, MPI_DOUBLE, MPI_MIN, comm));
+  PetscCallMPI(MPI_Allreduce(hi, ghi, 3, MPI_DOUBLE, MPI_MAX, comm));
+  mesh->boxMin = Eigen::Vector3d(glo[0], glo[1], glo[2]);
+  mesh->boxMax = Eigen::Vector3d(ghi[0], ghi[1], ghi[2]);
+  mesh->diagonal = (mesh->boxMax - mesh->boxMin).norm();
+  if (!(mesh->diagonal > 0.0))
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "mesh '%s' has a zero-size bounding box", mesh->filename.c_str());
+  PetscFunctionReturn(0);
+}
+
+namespace {
+const char *const kSetLabels[] = {"Face Sets", "Edge Sets", "Vertex Sets", "Cell Sets"};
+
+const char *labelForDimension(const Mesh &mesh, PetscInt dim) {
+  if (dim == 0) return "Vertex Sets";
+  if (dim == mesh.topoDim) return "Cell Sets";
+  if (dim == mesh.topoDim - 1) return "Face Sets";
+  return "Edge Sets";
+}
+}  // namespace
+
+PetscErrorCode physicalGroupVertices(const Mesh &mesh, const std::string &idOrName, std::vector<PetscInt> *vertices,
+                                     bool *found) {
+  MPI_Comm comm;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetComm((PetscObject)mesh.dm, &comm));
+  std::vector<std::pair<const char *, PetscInt>> lookups;  // (label, value)
+  double parsed;
+  if (parseReal(idOrName, &parsed) && parsed == static_cast<double>(static_cast<PetscInt>(parsed))) {
+    for (const char *l : {"Face Sets", "Edge Sets", "Vertex Sets"}) lookups.emplace_back(l, static_cast<PetscInt>(parsed));
+  } else {
+    auto it = mesh.physicalNames.find(idOrName);
+    if (it != mesh.physicalNames.end()) lookups.emplace_back(labelForDimension(mesh, it->second.dim), it->second.tag);
+  }
+  std::set<PetscInt> verts;
+  int localFound = 0;
+  {
+    for (const auto &[labelName, tag] : lookups) {
+      DMLabel label;
+      PetscCall(DMGetLabel(mesh.dm, labelName, &label));
+      if (!label) continue;
+      IS points;
+      PetscCall(DMLabelGetStratumIS(label, tag, &points));
+      if (!points) continue;
+      PetscInt np;
+      const PetscInt *pts;
+      PetscCall(ISGetLocalSize(points, &np));
+      PetscCall(ISGetIndices(points, &pts));
+      for (PetscInt i = 0; i < np; ++i) {
+        PetscInt nc, *closure = nullptr;
+        PetscCall(DMPlexGetTransitiveClosure(mesh.dm, pts[i], PETSC_TRUE, &nc, &closure));
+        for (PetscInt k = 0; k < nc; ++k) {
+          const PetscInt q = closure[2 * k];
+          if (q >= mesh.vStart && q < mesh.vEnd) verts.insert(q);
+        }
+        PetscCall(DMPlexRestoreTransitiveClosure(mesh.dm, pts[i], PETSC_TRUE, &nc, &closure));
+      }
+      localFound = localFound || np > 0;
+      PetscCall(ISRestoreIndices(points, &pts));
+      PetscCall(ISDestroy(&points));
+    }
+  }
+  int anyFound = 0;
+  PetscCallMPI(MPI_Allreduce(&localFound, &anyFound, 1, MPI_INT, MPI_MAX, comm));
+  *found = anyFound != 0;
+  vertices->assign(verts.begin(), verts.end());
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode describePhysicalGroups(const Mesh &mesh, std::string *text) {
+  MPI_Comm comm;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetComm((PetscObject)mesh.dm, &comm));
+  std::ostringstream out;
+  for (const char *labelName : kSetLabels) {
+    DMLabel label;
+    PetscCall(DMGetLabel(mesh.dm, labelName, &label));
+    std::set<PetscInt> values;
+    if (label) {
+      IS vis;
+      PetscCall(DMLabelGetValueIS(label, &vis));
+      PetscInt nv;
+      const PetscInt *vals;
+      PetscCall(ISGetLocalSize(vis, &nv));
+      PetscCall(ISGetIndices(vis, &vals));
+      values.insert(vals, vals + nv);
+      PetscCall(ISRestoreIndices(vis, &vals));
+      PetscCall(ISDestroy(&vis));
+    }
+    // Union over ranks (sets are small).
+    std::vector<int> mine(values.begin(), values.end());
+    int n = static_cast<int>(mine.size()), size;
+    MPI_Comm_size(comm, &size);
+    std::vector<int> counts(size), displs(size);
+    PetscCallMPI(MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm));
+    int total = 0;
+    for (int p = 0; p < size; ++p) {
+      displs[p] = total;
+      total += counts[p];
+    }
+    std::vector<int> all(total);
+    PetscCallMPI(MPI_Allgatherv(mine.data(), n, MPI_INT, all.data(), counts.data(), displs.data(), MPI_INT, comm));
+    std::set<int> u(all.begin(), all.end());
+    if (u.empty()) continue;
+    out << labelName << " {";
+    bool first = true;
+    for (int v : u) {
+      out << (first ? "" : ",") << v;
+      for (const auto &kv : mesh.physicalNames)
+        if (kv.second.tag == v && std::string(labelForDimension(mesh, kv.second.dim)) == labelName)
+          out << "=" << kv.first;
+      first = false;
+    }
+    out << "} ";
+  }
+  *text = out.str().empty() ? "none" : out.str();
+  PetscFunctionReturn(0);
+}
+
+}  // namespace aries::fem

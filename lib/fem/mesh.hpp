@@ -1,0 +1,48 @@
+// Mesh loading: a gmsh file read on rank 0 through DMPlex (-dm_plex_filename), partitioned with METIS (default,
+// through PETSc's shell partitioner) or PT-Scotch (-partitioner ptscotch), then distributed. Keeps the natural
+// (serial, gmsh-order) number of every local vertex and cell, which makes random initial states, per-cell input
+// files and the output independent of the number of ranks.
+#pragma once
+
+#include "energies/material.hpp"
+
+#include <petscdmplex.h>
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace aries::fem {
+
+struct Mesh {
+  DM dm = nullptr;  // distributed, interpolated DMPlex with coordinates and the gmsh labels
+  std::string filename;
+  energies::ElementShape shape = energies::ElementShape::Tet;
+  PetscInt topoDim = 3, spaceDim = 3;
+  PetscInt cStart = 0, cEnd = 0, vStart = 0, vEnd = 0;
+  std::vector<PetscInt> naturalCell;    // per local cell (c - cStart)
+  std::vector<PetscInt> naturalVertex;  // per local vertex (v - vStart)
+  PetscInt numCellsGlobal = 0, numVerticesGlobal = 0;
+  struct PhysicalGroup {
+    PetscInt dim, tag;
+  };
+  std::map<std::string, PhysicalGroup> physicalNames;  // gmsh $PhysicalNames
+  Eigen::Vector3d boxMin = Eigen::Vector3d::Zero(), boxMax = Eigen::Vector3d::Zero();
+  double diagonal = 1.0;  // L: bounding-box diagonal of the rest shape (paper Sec. 6)
+
+  ~Mesh();
+};
+
+// Reads -dm_plex_filename and -partitioner; collective.
+PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh);
+
+// The vertices (local point numbers) of a gmsh physical group (closure taken). A name selects the label of its
+// dimension ("Vertex Sets", "Edge Sets", "Face Sets", "Cell Sets"); a number is a boundary id, searched in
+// "Face Sets", "Edge Sets" and "Vertex Sets". `found` is true if the set has points on any rank (collective).
+PetscErrorCode physicalGroupVertices(const Mesh &mesh, const std::string &idOrName, std::vector<PetscInt> *vertices,
+                                     bool *found);
+
+// Human-readable list of the physical groups present (for error messages), collective.
+PetscErrorCode describePhysicalGroups(const Mesh &mesh, std::string *text);
+
+}  // namespace aries::fem

@@ -1,0 +1,31 @@
+// Per-step statistics CSV (-stats FILE.csv), one row per step, flushed as written so an interrupted run keeps
+// every completed row. Header (a contract): step,time,newton_its,ksp_its,wall_s,energy,min_alpha,max_disp,reason
+#pragma once
+
+#include <petscsys.h>
+
+#include <cstdio>
+#include <string>
+
+namespace aries::io {
+
+struct StepStats {
+  PetscInt step = 0;
+  double time = 0.0;
+  PetscInt newtonIterations = 0, linearIterations = 0;
+  double wallSeconds = 0.0, energy = 0.0, minAlpha = 0.0, maxDisplacement = 0.0;
+  std::string reason;
+};
+
+class StatsWriter {
+ public:
+  ~StatsWriter();
+  PetscErrorCode open(MPI_Comm comm, const std::string &path);  // collective
+  PetscErrorCode append(const StepStats &s);                    // rank 0 writes
+  bool isOpen() const { return file_ != nullptr; }
+
+ private:
+  std::FILE *file_ = nullptr;
+};
+
+}  // namespace aries::io

@@ -1,0 +1,176 @@
+#include "io/xdmf_writer.hpp"
+
+#include "fem/errors.hpp"
+
+#include <hdf5.h>
+
+#include <cstdio>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+#include <sys/stat.h>
+
+namespace aries::io {
+
+namespace {
+
+bool writeDataset(hid_t file, const char *path, const double *data, hsize_t rows, hsize_t cols) {
+  const hsize_t dims[2] = {rows, cols};
+  hid_t space = H5Screate_simple(cols > 1 ? 2 : 1, dims, nullptr);
+  hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
+  H5Pset_create_intermediate_group(lcpl, 1);
+  hid_t dset = H5Dcreate2(file, path, H5T_NATIVE_DOUBLE, space, lcpl, H5P_DEFAULT, H5P_DEFAULT);
+  bool ok = dset >= 0 && H5Dwrite(dset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) >= 0;
+  if (dset >= 0) H5Dclose(dset);
+  H5Pclose(lcpl);
+  H5Sclose(space);
+  return ok;
+}
+
+bool writeIntDataset(hid_t file, const char *path, const std::vector<PetscInt> &data, hsize_t rows, hsize_t cols) {
+  std::vector<long long> v(data.begin(), data.end());
+  const hsize_t dims[2] = {rows, cols};
+  hid_t space = H5Screate_simple(2, dims, nullptr);
+  hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
+  H5Pset_create_intermediate_group(lcpl, 1);
+  hid_t dset = H5Dcreate2(file, path, H5T_NATIVE_LLONG, space, lcpl, H5P_DEFAULT, H5P_DEFAULT);
+  bool ok = dset >= 0 && H5Dwrite(dset, H5T_NATIVE_LLONG, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) >= 0;
+  if (dset >= 0) H5Dclose(dset);
+  H5Pclose(lcpl);
+  H5Sclose(space);
+  return ok;
+}
+
+std::string dirOf(const std::string &p) {
+  const auto s = p.find_last_of('/');
+  return s == std::string::npos ? "." : p.substr(0, s);
+}
+std::string nameOf(const std::string &p) {
+  const auto s = p.find_last_of('/');
+  return s == std::string::npos ? p : p.substr(s + 1);
+}
+bool makeDirs(const std::string &dir) {
+  std::string cur;
+  std::istringstream parts(dir);
+  std::string part;
+  if (!dir.empty() && dir[0] == '/') cur = "/";
+  while (std::getline(parts, part, '/')) {
+    if (part.empty()) continue;
+    cur += part + "/";
+    struct stat st;
+    if (stat(cur.c_str(), &st) != 0 && mkdir(cur.c_str(), 0755) != 0) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+PetscErrorCode XdmfWriter::open(MPI_Comm comm, const std::string &base, const std::vector<PetscInt> &cells,
+                                int verticesPerCell, const std::vector<double> &rest) {
+  PetscMPIInt rank;
+  PetscFunctionBeginUser;
+  comm_ = comm;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  base_ = base;
+  dir_ = dirOf(base);
+  name_ = nameOf(base);
+  if (name_.empty())
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -output '%s' needs a file name: -output DIR/NAME", base.c_str());
+  meshFile_ = name_ + ".h5";
+  xmf_ = base + ".xmf";
+  verticesPerCell_ = verticesPerCell;
+  std::string err;
+  if (rank == 0) {
+    numCells_ = static_cast<PetscInt>(cells.size() / verticesPerCell);
+    numVertices_ = static_cast<PetscInt>(rest.size() / 3);
+    rest_ = rest;
+    if (!makeDirs(dir_ + "/" + name_ + ".steps")) {
+      err = "cannot create output directory '" + dir_ + "/" + name_ + ".steps' (-output)";
+    } else {
+      const std::string tmp = base + ".h5.tmp";
+      hid_t f = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+      bool ok = f >= 0 && writeIntDataset(f, "/mesh/topology", cells, numCells_, verticesPerCell) &&
+                writeDataset(f, "/mesh/rest", rest.data(), numVertices_, 3);
+      if (f >= 0) ok = H5Fclose(f) >= 0 && ok;
+      if (!ok || std::rename(tmp.c_str(), (base + ".h5").c_str()) != 0)
+        err = "cannot write '" + base + ".h5' (-output)";
+    }
+  }
+  PetscCall(fem::collectiveCheck(comm, !err.empty(), err));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode XdmfWriter::writeStep(PetscInt step, double time, const std::vector<double> &positions,
+                                     const std::vector<CellField> &cellFields) {
+  PetscMPIInt rank;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm_, &rank));
+  std::string err;
+  if (rank == 0) {
+    std::ostringstream fname;
+    fname << name_ << ".steps/" << name_ << "_" << std::setw(6) << std::setfill('0') << step << ".h5";
+    const std::string path = dir_ + "/" + fname.str(), tmp = path + ".tmp";
+    std::vector<double> disp(positions.size());
+    for (size_t i = 0; i < positions.size(); ++i) disp[i] = positions[i] - rest_[i];
+    hid_t f = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    bool ok = f >= 0 && writeDataset(f, "/positions", positions.data(), numVertices_, 3) &&
+              writeDataset(f, "/displacement", disp.data(), numVertices_, 3);
+    cellFieldLayout_.clear();
+    for (const auto &cf : cellFields) {
+      ok = ok && writeDataset(f, ("/cell/" + cf.name).c_str(), cf.values.data(), numCells_, cf.components);
+      cellFieldLayout_.emplace_back(cf.name, cf.components);
+    }
+    if (f >= 0) ok = H5Fclose(f) >= 0 && ok;
+    if (!ok || std::rename(tmp.c_str(), path.c_str()) != 0) err = "cannot write output step file '" + path + "'";
+    if (err.empty()) {
+      steps_.push_back({step, time, fname.str()});
+      PetscCall(writeXmf());
+    }
+  }
+  PetscCall(fem::collectiveCheck(comm_, !err.empty(), err));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode XdmfWriter::writeXmf() {
+  PetscFunctionBeginUser;
+  const char *topo = verticesPerCell_ == 4 ? "Tetrahedron" : "Triangle";
+  std::ostringstream x;
+  x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n"
+    << "<Grid Name=\"aries\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  x << std::setprecision(17);
+  for (const auto &s : steps_) {
+    x << "  <Grid Name=\"step " << s.step << "\" GridType=\"Uniform\">\n"
+      << "    <Time Value=\"" << s.time << "\"/>\n"
+      << "    <Topology TopologyType=\"" << topo << "\" NumberOfElements=\"" << numCells_ << "\">\n"
+      << "      <DataItem Dimensions=\"" << numCells_ << " " << verticesPerCell_
+      << "\" NumberType=\"Int\" Precision=\"8\" Format=\"HDF\">" << meshFile_ << ":/mesh/topology</DataItem>\n"
+      << "    </Topology>\n"
+      << "    <Geometry GeometryType=\"XYZ\">\n"
+      << "      <DataItem Dimensions=\"" << numVertices_ << " 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">"
+      << s.file << ":/positions</DataItem>\n    </Geometry>\n"
+      << "    <Attribute Name=\"displacement\" AttributeType=\"Vector\" Center=\"Node\">\n"
+      << "      <DataItem Dimensions=\"" << numVertices_ << " 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">"
+      << s.file << ":/displacement</DataItem>\n    </Attribute>\n";
+    for (const auto &cf : cellFieldLayout_) {
+      x << "    <Attribute Name=\"" << cf.first << "\" AttributeType=\"" << (cf.second == 1 ? "Scalar" : "Vector")
+        << "\" Center=\"Cell\">\n"
+        << "      <DataItem Dimensions=\"" << numCells_;
+      if (cf.second > 1) x << " " << cf.second;
+      x << "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << s.file << ":/cell/" << cf.first
+        << "</DataItem>\n    </Attribute>\n";
+    }
+    x << "  </Grid>\n";
+  }
+  x << "</Grid>\n</Domain>\n</Xdmf>\n";
+  const std::string tmp = xmf_ + ".tmp";
+  {
+    std::ofstream out(tmp);
+    out << x.str();
+    if (!out) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot write '%s'", tmp.c_str());
+  }
+  if (std::rename(tmp.c_str(), xmf_.c_str()) != 0)
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot rename '%s' to '%s'", tmp.c_str(), xmf_.c_str());
+  PetscFunctionReturn(0);
+}
+
+}  // namespace aries::io

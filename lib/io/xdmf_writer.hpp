@@ -1,0 +1,51 @@
+// HDF5 + XDMF output that ParaView opens (-output DIR/NAME):
+//   DIR/NAME.h5                 the mesh: /mesh/topology (cells x vertices, natural gmsh order), /mesh/rest
+//   DIR/NAME.steps/NAME_<k>.h5  one file per output step: /positions, /displacement (vertex fields) and /cell/<f>
+//   DIR/NAME.xmf                temporal collection over the steps written so far
+// Every file is written under a temporary name and renamed when complete, and the .xmf is rewritten after each
+// step, so a run killed at any moment leaves the last complete step readable. Data are gathered on rank 0 in
+// natural order (identical files for any number of ranks).
+#pragma once
+
+#include <petscsys.h>
+
+#include <string>
+#include <vector>
+
+namespace aries::io {
+
+struct CellField {
+  std::string name;
+  int components;
+  std::vector<double> values;  // natural order, rank 0
+};
+
+class XdmfWriter {
+ public:
+  // Collective; `cells` (natural vertex ids, `verticesPerCell` each) and `rest` (x3) are only read on rank 0.
+  PetscErrorCode open(MPI_Comm comm, const std::string &base, const std::vector<PetscInt> &cells, int verticesPerCell,
+                      const std::vector<double> &rest);
+  // Rank 0 writes; collective only for the error check.
+  PetscErrorCode writeStep(PetscInt step, double time, const std::vector<double> &positions,
+                           const std::vector<CellField> &cellFields);
+  const std::string &xmfPath() const { return xmf_; }
+  bool isOpen() const { return !base_.empty(); }
+
+ private:
+  struct StepEntry {
+    PetscInt step;
+    double time;
+    std::string file;  // relative to the output directory
+  };
+  PetscErrorCode writeXmf();
+
+  MPI_Comm comm_ = MPI_COMM_NULL;
+  std::string base_, dir_, name_, meshFile_, xmf_;
+  PetscInt numCells_ = 0, numVertices_ = 0;
+  int verticesPerCell_ = 4;
+  std::vector<double> rest_;
+  std::vector<StepEntry> steps_;
+  std::vector<std::pair<std::string, int>> cellFieldLayout_;
+};
+
+}  // namespace aries::io

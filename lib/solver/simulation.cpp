@@ -1,0 +1,366 @@
+#include "solver/simulation.hpp"
+
+#include "fem/options.hpp"
+
+#include <cmath>
+#include <cstdint>
+
+namespace aries::solver {
+
+namespace {
+
+// Counter-based random numbers: the same value for a (seed, vertex, component) on any number of ranks.
+double uniform01(uint64_t seed, uint64_t vertex, uint64_t component) {
+  uint64_t z = seed * 0x9E3779B97F4A7C15ULL ^ (vertex * 0xBF58476D1CE4E5B9ULL + component * 0x94D049BB133111EBULL);
+  z += 0x9E3779B97F4A7C15ULL;
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+  z ^= z >> 31;
+  return static_cast<double>(z >> 11) * 0x1.0p-53;
+}
+
+}  // namespace
+
+std::string reasonName(const NewtonResult &r) {
+  if (r.reason > 0 && r.stepCriterion) return "newton_step";
+  switch (r.reason) {
+    case SNES_CONVERGED_FNORM_ABS: return "fnorm_abs";
+    case SNES_CONVERGED_FNORM_RELATIVE: return "fnorm_rel";
+    case SNES_CONVERGED_SNORM_RELATIVE: return "snorm_rel";
+    case SNES_CONVERGED_ITS: return "its";
+    case SNES_DIVERGED_FUNCTION_DOMAIN: return "diverged_domain";
+    case SNES_DIVERGED_FUNCTION_COUNT: return "diverged_function_count";
+    case SNES_DIVERGED_LINEAR_SOLVE: return "diverged_linear_solve";
+    case SNES_DIVERGED_FNORM_NAN: return "diverged_nan";
+    case SNES_DIVERGED_MAX_IT: return "diverged_max_it";
+    case SNES_DIVERGED_LINE_SEARCH: return "diverged_line_search";
+    case SNES_DIVERGED_LOCAL_MIN: return "diverged_local_min";
+    case SNES_DIVERGED_DTOL: return "diverged_dtol";
+    default: return "reason_" + std::to_string(static_cast<int>(r.reason));
+  }
+}
+
+PetscErrorCode readSimulationOptions(SimulationOptions *o) {
+  std::string s;
+  PetscBool set;
+  PetscFunctionBeginUser;
+  PetscCall(fem::optionString(nullptr, "-integrator", &s, &set));
+  if (set) {
+    if (s == "static") o->integrator = Integrator::Static;
+    else if (s == "beuler") o->integrator = Integrator::BackwardEuler;
+    else SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -integrator: '%s' is not static|beuler", s.c_str());
+  }
+  PetscCall(fem::optionReal(nullptr, "-dt", &o->dt, &set));
+  if (!(o->dt > 0.0)) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -dt must be > 0 (got %g)", o->dt);
+  PetscCall(fem::optionInt(nullptr, "-steps", &o->steps, &set));
+  if (o->steps < 1) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -steps must be >= 1 (got %d)", (int)o->steps);
+  PetscCall(fem::optionString(nullptr, "-initial", &s, &set));
+  if (set) {
+    if (s == "rest") o->initial = InitialState::Rest;
+    else if (s == "scramble") o->initial = InitialState::Scramble;
+    else if (s == "invert") o->initial = InitialState::Invert;
+    else SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -initial: '%s' is not rest|scramble|invert", s.c_str());
+  }
+  if (o->initial == InitialState::Scramble) {
+    PetscCall(fem::optionReal(nullptr, "-scramble_volume_ratio", &o->scrambleVolumeRatio, &set));
+    if (!(o->scrambleVolumeRatio > 0.0))
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -scramble_volume_ratio must be > 0 (got %g)",
+              o->scrambleVolumeRatio);
+    PetscCall(fem::optionInt(nullptr, "-scramble_seed", &o->scrambleSeed, &set));
+  }
+  PetscCall(fem::optionString(nullptr, "-output", &o->output, &set));
+  if (set) {
+    PetscCall(fem::optionInt(nullptr, "-output_every", &o->outputEvery, &set));
+    if (o->outputEvery < 1)
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -output_every must be >= 1 (got %d)", (int)o->outputEvery);
+  }
+  PetscCall(fem::optionString(nullptr, "-stats", &o->stats, &set));
+  PetscCall(fem::optionString(nullptr, "-on_failure", &s, &set));
+  if (set) {
+    if (s == "stop") o->onFailure = FailurePolicy::Stop;
+    else if (s == "halve_dt") o->onFailure = FailurePolicy::HalveDt;
+    else if (s == "continue") o->onFailure = FailurePolicy::Continue;
+    else SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -on_failure: '%s' is not stop|halve_dt|continue", s.c_str());
+  }
+  if (o->onFailure == FailurePolicy::HalveDt) {
+    PetscCall(fem::optionInt(nullptr, "-max_step_halvings", &o->maxStepHalvings, &set));
+    if (o->maxStepHalvings < 1 || o->maxStepHalvings > 30)
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -max_step_halvings must be in 1..30");
+  }
+  PetscFunctionReturn(0);
+}
+
+Simulation::~Simulation() {
+  for (Vec *v : {&x_, &v_, &xPrev_, &vPrev_, &xTilde_})
+    if (*v) VecDestroy(v);
+}
+
+PetscErrorCode Simulation::setup(fem::Discretization &disc, const SimulationOptions &opts) {
+  MPI_Comm comm;
+  PetscFunctionBeginUser;
+  disc_ = &disc;
+  opts_ = opts;
+  PetscCall(PetscObjectGetComm((PetscObject)disc.dm(), &comm));
+  const bool dynamic = opts.integrator == Integrator::BackwardEuler;
+  disc.dynamics().dt = dynamic ? opts.dt : 0.0;
+  PetscCall(newton_.setup(disc, dynamic, opts.dt));
+  PetscCall(DMCreateGlobalVector(disc.dm(), &x_));
+  PetscCall(PetscObjectSetName((PetscObject)x_, "positions"));
+  for (Vec *v : {&v_, &xPrev_, &vPrev_, &xTilde_}) PetscCall(VecDuplicate(x_, v));
+  PetscCall(VecSet(v_, 0.0));
+  PetscCall(disc.restPositions(x_));
+  PetscCall(disc.setLoad(0.0));
+  PetscCall(applyInitialState());
+  if (!opts.stats.empty()) PetscCall(stats_.open(comm, opts.stats));
+  if (!opts.output.empty()) {
+    std::vector<PetscInt> cells;
+    std::vector<double> rest;
+    PetscCall(disc.gatherTopology(&cells));
+    PetscCall(disc.gatherRestPositions(&rest));
+    PetscCall(writer_.open(comm, opts.output, cells, disc.verticesPerCell(), rest));
+  }
+  PetscCall(PetscLogStageGetId("solve", &solveStage_));
+  if (solveStage_ < 0) PetscCall(PetscLogStageRegister("solve", &solveStage_));
+  PetscCall(PetscLogStageGetId("output", &outputStage_));
+  if (outputStage_ < 0) PetscCall(PetscLogStageRegister("output", &outputStage_));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Simulation::applyInitialState() {
+  MPI_Comm comm;
+  PetscFunctionBeginUser;
+  if (opts_.initial == InitialState::Rest) PetscFunctionReturn(0);
+  PetscCall(PetscObjectGetComm((PetscObject)x_, &comm));
+  const int R = static_cast<int>(disc_->dofsPerVertex());
+  // Rest centroid and measure of the body (vertices are the free ones; the centroid uses all cells).
+  double acc[4] = {0, 0, 0, 0}, tot[4];
+  disc_->forEachOwnedFreeVertex([&](PetscInt, PetscInt, const Eigen::Vector3d &X) {
+    acc[0] += X[0];
+    acc[1] += X[1];
+    acc[2] += X[2];
+    acc[3] += 1.0;
+  });
+  PetscCallMPI(MPI_Allreduce(acc, tot, 4, MPI_DOUBLE, MPI_SUM, comm));
+  const Eigen::Vector3d centroid = tot[3] > 0 ? Eigen::Vector3d(tot[0] / tot[3], tot[1] / tot[3], tot[2] / tot[3])
+                                              : Eigen::Vector3d::Zero();
+  PetscInt lo;
+  PetscScalar *x;
+  PetscCall(VecGetOwnershipRange(x_, &lo, nullptr));
+  PetscCall(VecGetArray(x_, &x));
+  if (opts_.initial == InitialState::Invert) {
+    disc_->forEachOwnedFreeVertex([&](PetscInt, PetscInt off, const Eigen::Vector3d &X) {
+      for (int i = 0; i < R; ++i) x[off - lo + i] = 2.0 * centroid[i] - X[i];
+    });
+  } else {
+    const int dim = disc_->shapeCols() == 3 ? 3 : 2;
+    const double side = std::pow(opts_.scrambleVolumeRatio * disc_->restMeasureGlobal(), 1.0 / dim);
+    const uint64_t seed = static_cast<uint64_t>(opts_.scrambleSeed);
+    disc_->forEachOwnedFreeVertex([&](PetscInt natural, PetscInt off, const Eigen::Vector3d &) {
+      for (int i = 0; i < R; ++i) {
+        const bool inPlane = i < dim;
+        x[off - lo + i] = centroid[i] + (inPlane ? side * (uniform01(seed, natural, i) - 0.5) : 0.0);
+      }
+    });
+  }
+  PetscCall(VecRestoreArray(x_, &x));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Simulation::localState(Vec xLocal) {
+  PetscFunctionBeginUser;
+  PetscCall(DMGlobalToLocal(disc_->dm(), x_, INSERT_VALUES, xLocal));
+  PetscCall(disc_->fillBoundary(xLocal));
+  PetscFunctionReturn(0);
+}
+
+// Newton solves from the current state to the prescribed load `loadTarget`, halving the load increment while
+// moving the Dirichlet vertices would violate the alpha safeguard.
+PetscErrorCode Simulation::solveToLoad(double loadTarget, NewtonResult *acc, bool *ok, std::string *reason) {
+  PetscFunctionBeginUser;
+  *ok = true;
+  int guard = 0;
+  while (true) {
+    const double s0 = disc_->load();
+    double sTry = loadTarget;
+    if (sTry != s0) {
+      std::vector<double> ref;
+      PetscCall(newton_.alphasAt(x_, &ref));
+      for (PetscInt k = 0; k < opts_.maxLoadHalvings; ++k) {
+        PetscCall(disc_->setLoad(sTry));
+        bool acceptable = false;
+        PetscCall(newton_.alphaAcceptable(x_, ref, &acceptable));
+        if (acceptable) break;
+        sTry = s0 + 0.5 * (sTry - s0);
+      }
+      if (sTry != loadTarget) ++loadSubsteps_;
+    }
+    NewtonResult r;
+    PetscCall(PetscLogStagePush(solveStage_));
+    PetscCall(newton_.solve(x_, &r));
+    PetscCall(PetscLogStagePop());
+    acc->newtonIterations += r.newtonIterations;
+    acc->linearIterations += r.linearIterations;
+    acc->safeguardHalvings += r.safeguardHalvings;
+    acc->reason = r.reason;
+    acc->stepCriterion = r.stepCriterion;
+    *reason = reasonName(r);
+    if (!r.converged()) {
+      *ok = false;
+      PetscFunctionReturn(0);
+    }
+    if (sTry == loadTarget || ++guard > 1000) break;
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Simulation::advance(double dt, double loadTarget, int depth, NewtonResult *acc, bool *ok,
+                                   std::string *reason) {
+  const bool dynamic = opts_.integrator == Integrator::BackwardEuler;
+  PetscFunctionBeginUser;
+  const double load0 = disc_->load();
+  PetscCall(VecCopy(x_, xPrev_));
+  PetscCall(VecCopy(v_, vPrev_));
+  if (dynamic) {
+    disc_->dynamics().dt = dt;
+    PetscCall(VecWAXPY(xTilde_, dt, v_, x_));  // x~ = x_n + dt v_n
+    PetscCall(disc_->setPrediction(xTilde_));
+  }
+  {
+    Vec xLocal;
+    PetscInt fallback = 0;
+    PetscCall(DMGetLocalVector(disc_->dm(), &xLocal));
+    PetscCall(localState(xLocal));
+    PetscCall(disc_->updateBarrierFallback(xLocal, std::max(newton_.alphaMin(), 0.0), &fallback));
+    PetscCall(DMRestoreLocalVector(disc_->dm(), &xLocal));
+    acc->barrierFallbackCells = std::max(acc->barrierFallbackCells, fallback);
+  }
+  PetscCall(solveToLoad(loadTarget, acc, ok, reason));
+  if (*ok) {
+    if (dynamic) {
+      PetscCall(VecWAXPY(v_, -1.0, xPrev_, x_));
+      PetscCall(VecScale(v_, 1.0 / dt));
+    }
+    PetscFunctionReturn(0);
+  }
+  if (opts_.onFailure == FailurePolicy::HalveDt && depth < opts_.maxStepHalvings) {
+    PetscCall(VecCopy(xPrev_, x_));
+    PetscCall(VecCopy(vPrev_, v_));
+    PetscCall(disc_->setLoad(load0));
+    const double mid = 0.5 * (load0 + loadTarget);
+    PetscCall(advance(0.5 * dt, mid, depth + 1, acc, ok, reason));
+    if (*ok) PetscCall(advance(0.5 * dt, loadTarget, depth + 1, acc, ok, reason));
+    if (dynamic) disc_->dynamics().dt = opts_.dt;
+    PetscFunctionReturn(0);
+  }
+  if (opts_.onFailure == FailurePolicy::Continue) {
+    PetscReal nrm;
+    PetscCall(VecNorm(x_, NORM_INFINITY, &nrm));
+    if (!std::isfinite(nrm)) {  // keep the last finite state
+      PetscCall(VecCopy(xPrev_, x_));
+      PetscCall(VecCopy(vPrev_, v_));
+    } else if (dynamic) {
+      PetscCall(VecWAXPY(v_, -1.0, xPrev_, x_));
+      PetscCall(VecScale(v_, 1.0 / dt));
+    }
+    PetscCall(disc_->setLoad(loadTarget));
+    PetscFunctionReturn(0);
+  }
+  // Stop: restore the last accepted state so the output is a valid state.
+  PetscCall(VecCopy(xPrev_, x_));
+  PetscCall(VecCopy(vPrev_, v_));
+  PetscCall(disc_->setLoad(load0));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Simulation::writeOutput(PetscInt step, double time) {
+  PetscFunctionBeginUser;
+  if (!writer_.isOpen()) PetscFunctionReturn(0);
+  PetscCall(PetscLogStagePush(outputStage_));
+  Vec xLocal;
+  PetscCall(DMGetLocalVector(disc_->dm(), &xLocal));
+  PetscCall(localState(xLocal));
+  std::vector<double> positions;
+  PetscCall(disc_->gatherVertexField(xLocal, &positions));
+  fem::CellQuantities q;
+  PetscCall(disc_->cellQuantities(xLocal, &q));
+  std::vector<double> fib;
+  PetscCall(disc_->cellFibers(&fib));
+  std::vector<io::CellField> fields(3);
+  fields[0] = {"alpha", 1, {}};
+  fields[1] = {"energy_density", 1, {}};
+  fields[2] = {"fiber", 3, {}};
+  PetscCall(disc_->gatherCellField(q.alpha, 1, &fields[0].values));
+  PetscCall(disc_->gatherCellField(q.energyDensity, 1, &fields[1].values));
+  PetscCall(disc_->gatherCellField(fib, 3, &fields[2].values));
+  PetscCall(DMRestoreLocalVector(disc_->dm(), &xLocal));
+  PetscCall(writer_.writeStep(step, time, positions, fields));
+  PetscCall(PetscLogStagePop());
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Simulation::run(RunSummary *summary) {
+  MPI_Comm comm;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetComm((PetscObject)x_, &comm));
+  PetscCall(VecGetSize(x_, &summary->dofs));
+  const PetscInt steps = opts_.steps;
+  const PetscInt ramp = disc_->boundary().rampSteps > 0 ? disc_->boundary().rampSteps : steps;
+  PetscCall(writeOutput(0, 0.0));
+  double totalNewton = 0, totalLinear = 0, totalSeconds = 0;
+  Vec xLocal;
+  PetscCall(DMGetLocalVector(disc_->dm(), &xLocal));
+  for (PetscInt step = 1; step <= steps; ++step) {
+    const double t0 = MPI_Wtime();
+    const double loadTarget = std::min(1.0, static_cast<double>(step) / static_cast<double>(ramp));
+    NewtonResult acc;
+    bool ok = true;
+    std::string reason;
+    PetscCall(advance(opts_.dt, loadTarget, 0, &acc, &ok, &reason));
+    const double seconds = MPI_Wtime() - t0;
+
+    io::StepStats st;
+    st.step = step;
+    st.time = step * opts_.dt;
+    st.newtonIterations = acc.newtonIterations;
+    st.linearIterations = acc.linearIterations;
+    st.wallSeconds = seconds;
+    st.reason = reason;
+    PetscCall(localState(xLocal));
+    PetscCall(disc_->elasticEnergy(xLocal, &st.energy));
+    std::vector<double> alpha;
+    PetscCall(disc_->cellAlpha(xLocal, &alpha));
+    double amin = PETSC_MAX_REAL, gmin;
+    for (double a : alpha) amin = std::min(amin, a);
+    PetscCallMPI(MPI_Allreduce(&amin, &gmin, 1, MPI_DOUBLE, MPI_MIN, comm));
+    st.minAlpha = gmin;
+    PetscCall(disc_->maxDisplacement(xLocal, &st.maxDisplacement));
+    PetscCall(stats_.append(st));
+
+    totalNewton += acc.newtonIterations;
+    totalLinear += acc.linearIterations;
+    totalSeconds += seconds;
+    summary->stepsDone = step;
+    summary->safeguardHalvings += acc.safeguardHalvings;
+    summary->lastReason = reason;
+    if (!ok) ++summary->failedSteps;
+    PetscCall(PetscPrintf(comm, "step %d/%d  t=%g  newton %d  cg %d  min_alpha %.3e  %.3f s  %s%s\n", (int)step,
+                          (int)steps, st.time, (int)acc.newtonIterations, (int)acc.linearIterations, gmin, seconds,
+                          reason.c_str(), acc.safeguardHalvings ? (" (safeguard halved the step " + std::to_string(acc.safeguardHalvings) + "x)").c_str() : ""));
+    const bool stop = !ok && opts_.onFailure == FailurePolicy::Stop;
+    if (step % opts_.outputEvery == 0 || step == steps || stop) PetscCall(writeOutput(step, st.time));
+    if (stop) {
+      summary->failed = true;
+      break;
+    }
+  }
+  PetscCall(DMRestoreLocalVector(disc_->dm(), &xLocal));
+  const double n = std::max<PetscInt>(1, summary->stepsDone);
+  summary->avgNewton = totalNewton / n;
+  summary->avgLinear = totalLinear / n;
+  summary->avgSeconds = totalSeconds / n;
+  summary->totalSeconds = totalSeconds;
+  summary->loadSubsteps = loadSubsteps_;
+  PetscFunctionReturn(0);
+}
+
+}  // namespace aries::solver

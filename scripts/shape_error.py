@@ -1,0 +1,51 @@
+#!/usr/bin/env python3
+"""Distance of an aries output state to the rest shape.
+
+usage: shape_error.py OUTPUT_BASE [--step K] [--rigid]
+
+Prints max and RMS vertex distance to the rest positions, divided by L (rest bounding-box diagonal). With --rigid
+the state is first aligned to the rest shape by the best rotation and translation (Kabsch), the measure for
+free-floating scenes (an inside-out body may recover rotated). Reads OUTPUT_BASE.h5 and the step file of
+OUTPUT_BASE.xmf (the last step by default). Needs Debian's python3-h5py (run with /usr/bin/python3).
+"""
+import argparse
+import glob
+import os
+import sys
+
+import h5py
+import numpy as np
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("base")
+    ap.add_argument("--step", type=int, default=None)
+    ap.add_argument("--rigid", action="store_true")
+    a = ap.parse_args()
+    with h5py.File(a.base + ".h5", "r") as f:
+        rest = f["/mesh/rest"][:]
+    d, n = os.path.dirname(a.base) or ".", os.path.basename(a.base)
+    steps = sorted(glob.glob(os.path.join(d, n + ".steps", n + "_*.h5")))
+    if not steps:
+        sys.exit("shape_error: no step files for " + a.base)
+    path = steps[-1] if a.step is None else os.path.join(d, n + ".steps", "%s_%06d.h5" % (n, a.step))
+    with h5py.File(path, "r") as f:
+        x = f["/positions"][:]
+    if not np.all(np.isfinite(x)):
+        print("max_over_L nan rms_over_L nan step_file %s" % path)
+        return
+    L = np.linalg.norm(rest.max(0) - rest.min(0))
+    if a.rigid:
+        cr, cx = rest.mean(0), x.mean(0)
+        H = (x - cx).T @ (rest - cr)
+        U, _, Vt = np.linalg.svd(H)
+        D = np.diag([1, 1, np.sign(np.linalg.det(Vt.T @ U.T))])
+        Rm = Vt.T @ D @ U.T
+        x = (Rm @ (x - cx).T).T + cr
+    dist = np.linalg.norm(x - rest, axis=1)
+    print("max_over_L %.6e rms_over_L %.6e step_file %s" % (dist.max() / L, np.sqrt((dist**2).mean()) / L, path))
+
+
+if __name__ == "__main__":
+    main()
