@@ -104,62 +104,6 @@ D9 svdAlx(const Mat3 &F, const Eigen::Vector3d &a, double mu) {
   return out.scale(0.5 * mu);
 }
 
-// ---- prototypes (bench-only, NOT used by the solver) -----------------------------------------------------------------
-// Evidence for kernel optimizations: what the closed-form iarap costs when assembled in one pass.
-// For W = mu I, tr(S W) = mu I1 = mu f, so the iarap shear term is mu (I_C - 2 f + 3) and its Hessian is
-//   2 mu I - 2 mu dR/dF,  dR/dF = 2 f_1 I + f_2 H(II_C) + f_J H(J) + G d2f G^T,  G = [2F, 4FC, cof F]
-// (Eq. 19 with only first/second root derivatives). The volume term adds lambda (g_J g_J^T + (J-1) H(J)), so the
-// whole Hessian is  a I + c2 H(II_C) + cJ H(J) + G D G^T  with one 3x3 middle matrix D. Valid outside the mollifier
-// band (alpha > 3 eps), i.e. everywhere on both pools (checked before timing).
-D9 fusedIarap(const Mat3 &F, double mu, double lambda) {
-  const kn::RootDerivatives<3> rd = kn::rootDerivatives(F, 2);
-  const double f = rd.root.f, f1 = rd.d1[0], f2 = rd.d1[1], fJ = rd.d1[2];
-  const Mat3 Cg = F.transpose() * F;
-  const Mat3 B = F * F.transpose();
-  const Mat3 FC = F * Cg;
-  const Mat3 cof = kn::cofactor(F);
-  const double J = F.determinant(), IC = Cg.trace();
-  const Mat3 R = 2.0 * f1 * F + 4.0 * f2 * FC + fJ * cof;
-  D9 out;
-  out.value = mu * (IC - 2.0 * f + 3.0) + 0.5 * lambda * (J - 1.0) * (J - 1.0);
-  out.grad = kn::flatten<3, 3>(Mat3(2.0 * mu * (F - R) + lambda * (J - 1.0) * cof));
-  const double a = 2.0 * mu - 4.0 * mu * f1;
-  const double c2 = -2.0 * mu * f2 * 4.0;  // H(II_C) = 4 (d_ik C_lj + F_il F_kj + B_ik d_jl)
-  const double cJ = -2.0 * mu * fJ + lambda * (J - 1.0);
-  Mat9 &H = out.hess;
-  for (int i = 0; i < 3; ++i)
-    for (int k = 0; k < 3; ++k) {
-      const int l = 3 - i - k;
-      const double s = (i == k) ? 0.0 : (((k - i + 3) % 3 == 1) ? cJ : -cJ);
-      const double a0 = (i == k) ? 0.0 : F(l, 0), a1 = (i == k) ? 0.0 : F(l, 1), a2 = (i == k) ? 0.0 : F(l, 2);
-      const double blk[3][3] = {{0.0, a2, -a1}, {-a2, 0.0, a0}, {a1, -a0, 0.0}};
-      for (int j = 0; j < 3; ++j)
-        for (int m = 0; m < 3; ++m) {
-          double h = F(i, m) * F(k, j);
-          if (i == k) h += Cg(m, j);
-          if (j == m) h += B(i, k);
-          H(i * 3 + j, k * 3 + m) = c2 * h + s * blk[j][m] + ((i == k && j == m) ? a : 0.0);
-        }
-    }
-  kn::Mat<9, 3> G;
-  G.col(0) = kn::flatten<3, 3>(Mat3(2.0 * F));
-  G.col(1) = kn::flatten<3, 3>(Mat3(4.0 * FC));
-  G.col(2) = kn::flatten<3, 3>(cof);
-  Mat3 D = -2.0 * mu * rd.d2;
-  D(2, 2) += lambda;
-  const kn::Mat<9, 3> GD = G * D;
-  H.noalias() += GD * G.transpose();
-  return out;
-}
-
-// PSD projection that first tries a Cholesky factorization and only runs the 9x9 eigensolver when it fails.
-Mat9 projectToPSDCholeskyFirst(const Mat9 &H) {
-  const Mat9 Hs = 0.5 * (H + H.transpose());
-  Eigen::LLT<Mat9> llt(Hs);
-  if (llt.info() == Eigen::Success) return Hs;
-  return kn::projectToPSD<9>(Hs);
-}
-
 // ---- correctness gate -----------------------------------------------------------------------------------------------
 double normalizedAlpha(const Mat3 &F) {
   const double s = F.norm();
@@ -196,14 +140,6 @@ void checkAgreement(const std::vector<Pool> &pools) {
                   "iarap closed-form vs arap_svd", p.name, e);
       ++checked;
     }
-    // The bench-only fused prototype must reproduce the library's iarap on every timed element (outside the
-    // mollifier band and Horn's eigen path, where it does not apply; both pools have no such element).
-    for (std::size_t e = 0; e < p.F.size(); ++e) {
-      const kn::RootValue r = kn::rootValue(p.F[e]);
-      if (r.fromEigen || r.alpha <= 3.0 * iarap.singularity.mollifier.eps) continue;
-      ok &= agree(fusedIarap(p.F[e], kMu, kLambda), en::evaluateEnergy<3, 3>(iarap, cell, p.F[e]), 1e-6,
-                  "prototype fused iarap vs iarap", p.name, e);
-    }
     if (checked < 16) {
       std::fprintf(stderr, "kernel_bench: pool %s has only %d well-conditioned elements\n", p.name.c_str(), checked);
       ok = false;
@@ -214,8 +150,7 @@ void checkAgreement(const std::vector<Pool> &pools) {
     std::abort();
   }
   std::fprintf(stderr,
-               "kernel_bench: closed-form alx == SVD alx and iarap == arap_svd on 16 F per pool (rel. 1e-7); "
-               "proto:iarap_fused == iarap on every pool element (rel. 1e-6)\n");
+               "kernel_bench: closed-form alx == SVD alx and iarap == arap_svd on 16 F per pool (rel. 1e-7)\n");
 }
 
 // Pool statistics, recorded in the benchmark context (JSON "context") so the report can quote them.
@@ -279,7 +214,6 @@ void registerAll(const std::vector<Pool> &pools) {
   static const en::Material alxNone = makeMaterial(en::EnergyKind::Alx, en::SingularityMode::None, 0.0);
   static en::CellData<3> cell;
   cell.a = kFiber;
-  static const Mat3 W = iarap.weight3;  // mu I
   static const Mat3 A = kn::fiberTensor<3>(kFiber);
 
   for (const Pool &p : pools) {
@@ -302,23 +236,9 @@ void registerAll(const std::vector<Pool> &pools) {
       runOverPool(st, p.H, [](const Mat9 &H) { return kn::projectToPSD<9>(H); });
     });
 
-    // Cumulative breakdown of the closed-form iarap (each row includes the previous one).
-    addF("parts:iarap.1_ctx", p, [](const Mat3 &F) { return kn::makeRootContext<3, 3>(F, Order::Hessian); });
-    addF("parts:iarap.2_ctx+alpha", p, [](const Mat3 &F) {
-      const auto ctx = kn::makeRootContext<3, 3>(F, Order::Hessian);
-      return kn::alphaMeasure(ctx);
-    });
-    addF("parts:iarap.3_ctx+alpha+trSW", p, [](const Mat3 &F) {
-      const auto ctx = kn::makeRootContext<3, 3>(F, Order::Hessian);
-      D9 a = kn::alphaMeasure(ctx);
-      a += kn::stretchInvariant<3, 3>(ctx, W);
-      return a;
-    });
-    addF("parts:iarap.ctx+trSW", p, [](const Mat3 &F) {
-      const auto ctx = kn::makeRootContext<3, 3>(F, Order::Hessian);
-      return kn::stretchInvariant<3, 3>(ctx, W);
-    });
-    addF("parts:iarap.ctx+I1", p, [](const Mat3 &F) {
+    // iarap's general (unfused) path: the same energy as ortho with equal moduli, evaluated through the root
+    // context, the invariant Hessians and the chain rule instead of the fused tet kernel.
+    addF("parts:iarap.general_path", p, [](const Mat3 &F) {
       const auto ctx = kn::makeRootContext<3, 3>(F, Order::Hessian);
       return kn::invariantI1<3, 3>(ctx);
     });
@@ -330,19 +250,6 @@ void registerAll(const std::vector<Pool> &pools) {
     addF("parts:arap_svd.svd+R+dRdF", p, [](const Mat3 &F) {
       const auto s = kn::signedSvd<3>(F);
       return std::make_pair(kn::svdRotation<3>(s), kn::svdRotationGradient<3>(s));
-    });
-    // Prototypes (bench-only): one-pass closed-form iarap; Cholesky-first PSD; 3x3 symmetric eigensolve (the core of
-    // an analytic projection of the ARAP twist modes, whose eigenvectors are R [v_k]_x with v_k eigenvectors of S).
-    addEnergy("proto:iarap_fused", p, [](const Mat3 &F) { return fusedIarap(F, kMu, kLambda); });
-    benchmark::RegisterBenchmark(("proto:projectToPSD_cholesky_first/" + p.name).c_str(), [&p](benchmark::State &st) {
-      runOverPool(st, p.H, [](const Mat9 &H) { return projectToPSDCholeskyFirst(H); });
-    });
-    addF("proto:eig3x3_direct(S)", p, [](const Mat3 &F) {
-      const Mat3 R = kn::analyticRotation<3, 3>(F);
-      const Mat3 S = R.transpose() * F;
-      Eigen::SelfAdjointEigenSolver<Mat3> eig;
-      eig.computeDirect(0.5 * (S + S.transpose()));
-      return std::make_pair(Mat3(eig.eigenvectors()), Eigen::Vector3d(eig.eigenvalues()));
     });
     // The SVD-based I4 alone (alx_svd minus the trivial I5 term).
     addF("parts:alx_svd.svdStretchInvariant", p,

@@ -142,7 +142,7 @@ out.append("## Supplementary ratios (same definition)\n")
 out += ratio_rows([("iarap[sing=none]", "arap_svd"), ("iarap[sing=none]+psd", "arap_svd+psd"),
                    ("iarap_lin", "arap_svd"), ("iarap_lin+psd", "arap_svd+psd"),
                    ("alx[sing=none]", "alx_svd"), ("alx[sing=none]+psd", "alx_svd+psd"),
-                   ("proto:iarap_fused", "arap_svd"), ("proto:iarap_fused+psd", "arap_svd+psd")])
+                   ("parts:iarap.general_path", "arap_svd")])
 out.append("")
 with open(dst, "w") as fh:
     fh.write("\n".join(out))

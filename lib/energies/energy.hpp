@@ -7,6 +7,7 @@
 #include "energies/bw46.hpp"
 #include "energies/fiber.hpp"
 #include "energies/iarap_lin.hpp"
+#include "energies/isotropic_arap_tet.hpp"
 #include "energies/kim_aa.hpp"
 #include "energies/shape_target.hpp"
 #include "energies/volume_term.hpp"
@@ -37,6 +38,18 @@ inline kernels::Derivs<R * C> evaluateEnergy(const Material &m, const CellData<C
     if constexpr (square)
       if (m.lambda != 0.0) out += volumeTerm<N>(kernels::invariantJ(F, order), m.lambda, 1.0, order);
     return out;
+  }
+
+  // Tets with an isotropic weight: fused evaluation wherever the singularity fix is inactive (isotropic_arap_tet.hpp).
+  if constexpr (R == 3 && C == 3) {
+    const bool isoIarap = m.kind == EnergyKind::Iarap && kernels::isIsotropic<3>(m.weight3);
+    if (isoIarap || m.kind == EnergyKind::IarapLin) {
+      const auto rd = kernels::rootDerivatives(F, kernels::wants(order, kernels::Order::Hessian) ? 2 : 1);
+      if (m.kind == EnergyKind::IarapLin || stretchFixInactive(m.singularity, rd.root.alpha)) {
+        const double w = m.kind == EnergyKind::IarapLin ? m.mu : m.weight3(0, 0);
+        return isotropicArapTet(F, rd, w, 2.0 * w, 3.0 * w, m.lambda, 1.0, order);
+      }
+    }
   }
 
   const auto ctx = kernels::makeRootContext<R, C>(F, order);

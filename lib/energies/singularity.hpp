@@ -14,7 +14,14 @@ class StretchTerms {
  public:
   static constexpr int N = R * C;
   StretchTerms(const kernels::RootContext<R, C> &ctx, const SingularityParams &sp) : ctx_(ctx), sp_(sp) {
-    if (sp_.mode != SingularityMode::None) alpha_ = kernels::alphaMeasure(ctx_);
+    // alpha's derivatives are only read inside the mollifier's blend band or the barrier's support.
+    const double a = ctx.rd.root.alpha;
+    const bool needed = (sp_.mode == SingularityMode::Mollifier && a >= sp_.mollifier.eps && a <= 3.0 * sp_.mollifier.eps) ||
+                        (sp_.mode == SingularityMode::Barrier && a > 0.0 && a < sp_.barrier.eps);
+    if (needed)
+      alpha_ = kernels::alphaMeasure(ctx_);
+    else
+      alpha_.value = a;
   }
 
   // tr(S D) (I4 for D = aa^T, I6 for the cross tensor) under the mode.

@@ -18,26 +18,30 @@ inline Derivs<R * C> invariantIC(const Mat<R, C> &F, Order order = Order::Hessia
   return d;
 }
 
-// II_C = |F^T F|^2: gradient 4 F C; Hessian entries 4 (d_ik C_lj + F_il F_kj + (F F^T)_ik d_jl).
+// Adds c * d2 II_C / dF2 to H: entries 4 c (d_ik C_lj + F_il F_kj + (F F^T)_ik d_jl), C = F^T F.
+template <int R, int C>
+inline void addHessianIIC(const Mat<R, C> &F, const Mat<C, C> &Cg, double c, Mat<R * C, R * C> &H) {
+  const Mat<R, R> B = F * F.transpose();
+  const double c4 = 4.0 * c;
+  for (int i = 0; i < R; ++i)
+    for (int j = 0; j < C; ++j)
+      for (int k = 0; k < R; ++k)
+        for (int l = 0; l < C; ++l) {
+          double h = F(i, l) * F(k, j);
+          if (i == k) h += Cg(l, j);
+          if (j == l) h += B(i, k);
+          H(i * C + j, k * C + l) += c4 * h;
+        }
+}
+
+// II_C = |F^T F|^2: gradient 4 F C; Hessian see addHessianIIC.
 template <int R, int C>
 inline Derivs<R * C> invariantIIC(const Mat<R, C> &F, Order order = Order::Hessian) {
-  constexpr int N = R * C;
   const Mat<C, C> Cg = F.transpose() * F;
-  Derivs<N> d;
+  Derivs<R * C> d;
   d.value = Cg.squaredNorm();
   if (wants(order, Order::Gradient)) d.grad = 4.0 * flatten<R, C>(F * Cg);
-  if (wants(order, Order::Hessian)) {
-    const Mat<R, R> B = F * F.transpose();
-    for (int i = 0; i < R; ++i)
-      for (int j = 0; j < C; ++j)
-        for (int k = 0; k < R; ++k)
-          for (int l = 0; l < C; ++l) {
-            double h = F(i, l) * F(k, j);
-            if (i == k) h += Cg(l, j);
-            if (j == l) h += B(i, k);
-            d.hess(i * C + j, k * C + l) = 4.0 * h;
-          }
-  }
+  if (wants(order, Order::Hessian)) addHessianIIC<R, C>(F, Cg, 1.0, d.hess);
   return d;
 }
 
@@ -57,25 +61,31 @@ inline Mat<2, 2> cofactor(const Mat<2, 2> &F) {
   return c;
 }
 
-// J = det F for square F. 3x3 Hessian: d2J/dF_ij dF_km = sum_ln eps_ikl eps_jmn F_ln (the "cross-product" matrix).
+// Adds c * d2 J / dF2 to H for 3x3 F: d2J/dF_ij dF_km = sum_ln eps_ikl eps_jmn F_ln (block (i,k) is the signed
+// cross-product matrix of row l of F, l the third index).
+inline void addHessianJ(const Mat<3, 3> &F, double c, Mat<9, 9> &H) {
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) {
+      if (i == k) continue;
+      const int l = 3 - i - k;
+      const double s = ((k - i + 3) % 3 == 1) ? c : -c;  // c * eps_ikl
+      const double a0 = s * F(l, 0), a1 = s * F(l, 1), a2 = s * F(l, 2);
+      const int r = i * 3, q = k * 3;
+      H(r, q + 1) += a2;
+      H(r, q + 2) -= a1;
+      H(r + 1, q) -= a2;
+      H(r + 1, q + 2) += a0;
+      H(r + 2, q) += a1;
+      H(r + 2, q + 1) -= a0;
+    }
+}
+
+// J = det F for square F, gradient cof F.
 inline Derivs<9> invariantJ(const Mat<3, 3> &F, Order order = Order::Hessian) {
   Derivs<9> d;
   d.value = F.determinant();
   if (wants(order, Order::Gradient)) d.grad = flatten<3, 3>(cofactor(F));
-  if (wants(order, Order::Hessian)) {
-    // Block (i,k) of the Hessian (rows j, cols m) is s_ik * [F_l]_x-like 3x3 block built from row l != i,k.
-    for (int i = 0; i < 3; ++i)
-      for (int k = 0; k < 3; ++k) {
-        if (i == k) continue;
-        const int l = 3 - i - k;
-        const double s = ((k - i + 3) % 3 == 1) ? 1.0 : -1.0;  // eps_ikl
-        // sum_n eps_jmn F_ln  = (skew of row l)_{jm} with sign: [[0, F_l2, -F_l1], [-F_l2, 0, F_l0], [F_l1, -F_l0, 0]]
-        const double a0 = F(l, 0), a1 = F(l, 1), a2 = F(l, 2);
-        const double blk[3][3] = {{0.0, a2, -a1}, {-a2, 0.0, a0}, {a1, -a0, 0.0}};
-        for (int j = 0; j < 3; ++j)
-          for (int m = 0; m < 3; ++m) d.hess(i * 3 + j, k * 3 + m) = s * blk[j][m];
-      }
-  }
+  if (wants(order, Order::Hessian)) addHessianJ(F, 1.0, d.hess);
   return d;
 }
 

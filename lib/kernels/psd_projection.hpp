@@ -11,9 +11,13 @@ namespace aries::kernels {
 
 template <int N>
 inline Mat<N, N> projectToPSD(const Mat<N, N> &H) {
-  Eigen::SelfAdjointEigenSolver<Mat<N, N>> eig(0.5 * (H + H.transpose()));
+  const Mat<N, N> Hs = 0.5 * (H + H.transpose());
+  // Already positive definite (common near rest): a Cholesky factorization is ~20x cheaper than an eigensolve.
+  Eigen::LLT<Mat<N, N>> llt(Hs);
+  if (llt.info() == Eigen::Success) return Hs;
+  Eigen::SelfAdjointEigenSolver<Mat<N, N>> eig(Hs);
   const Vec<N> &lam = eig.eigenvalues();
-  if (lam[0] >= 0.0) return 0.5 * (H + H.transpose());
+  if (lam[0] >= 0.0) return Hs;
   const Mat<N, N> &Q = eig.eigenvectors();
   return Q * lam.cwiseMax(0.0).asDiagonal() * Q.transpose();
 }

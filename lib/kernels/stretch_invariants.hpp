@@ -19,15 +19,19 @@
 namespace aries::kernels {
 
 namespace detail {
-// Fiber invariants paired with the root invariants, and their weights w_m.
-inline std::array<Derivs<9>, 3> pairedFiberInvariants(const Mat<3, 3> &F, const Mat<3, 3> &D, Order o) {
-  return {invariantIVC<3, 3>(F, D, o), invariantVC<3, 3>(F, D, o), invariantI8<3>(F, D, o)};
+// Fiber invariants paired with the root invariants, and their weights w_m. I_8 = tr(D) J and VI_C = tr(D) III_C
+// reuse the root invariants already in the context.
+inline std::array<Derivs<9>, 3> pairedFiberInvariants(const RootContext<3, 3> &ctx, const Mat<3, 3> &D, Order o) {
+  Derivs<9> I8 = ctx.y.y[2];
+  return {invariantIVC<3, 3>(ctx.F, D, o), invariantVC<3, 3>(ctx.F, D, o), I8.scale(D.trace())};
 }
-inline std::array<Derivs<4>, 2> pairedFiberInvariants(const Mat<2, 2> &F, const Mat<2, 2> &D, Order o) {
-  return {invariantIVC<2, 2>(F, D, o), invariantI8<2>(F, D, o)};
+inline std::array<Derivs<4>, 2> pairedFiberInvariants(const RootContext<2, 2> &ctx, const Mat<2, 2> &D, Order o) {
+  Derivs<4> I8 = ctx.y.y[1];
+  return {invariantIVC<2, 2>(ctx.F, D, o), I8.scale(D.trace())};
 }
-inline std::array<Derivs<6>, 2> pairedFiberInvariants(const Mat<3, 2> &F, const Mat<2, 2> &D, Order o) {
-  return {invariantIVC<3, 2>(F, D, o), invariantVIC<3>(F, D, o)};
+inline std::array<Derivs<6>, 2> pairedFiberInvariants(const RootContext<3, 2> &ctx, const Mat<2, 2> &D, Order o) {
+  Derivs<6> VIC = ctx.y.y[1];
+  return {invariantIVC<3, 2>(ctx.F, D, o), VIC.scale(D.trace())};
 }
 template <int R, int C>
 constexpr std::array<double, RootSpace<R, C>::K> pairingWeights() {
@@ -57,7 +61,14 @@ inline double stretchInvariantValue(const RootContext<R, C> &ctx, const Mat<C, C
 }
 template <int R, int C>
 inline double stretchInvariantValue(const RootContext<R, C> &ctx, const Mat<C, C> &D) {
-  return stretchInvariantValue<R, C>(ctx, D, detail::pairedFiberInvariants(ctx.F, D, Order::Value));
+  return stretchInvariantValue<R, C>(ctx, D, detail::pairedFiberInvariants(ctx, D, Order::Value));
+}
+
+// D = w I (to round-off): then tr(S D) = w tr(S) = w I1 exactly (Eq. 42 with any orthonormal basis).
+template <int C>
+inline bool isIsotropic(const Mat<C, C> &D) {
+  const Mat<C, C> dev = D - (D.trace() / C) * Mat<C, C>::Identity();
+  return dev.cwiseAbs().maxCoeff() <= 1e-14 * D.cwiseAbs().maxCoeff();
 }
 
 // tr(S D) for the symmetric fiber tensor D, with derivatives. The context carries everything that depends on F
@@ -69,7 +80,11 @@ inline Derivs<R * C> stretchInvariant(const RootContext<R, C> &ctx, const Mat<C,
   constexpr auto w = detail::pairingWeights<R, C>();
   const Order order = ctx.order;
   const auto &rd = ctx.rd;
-  const auto X = detail::pairedFiberInvariants(ctx.F, D, order);
+  if (isIsotropic<C>(D)) {  // Eq. 42: the orthonormal sum of I4 terms is I1, no fiber machinery needed
+    Derivs<N> I1 = invariantI1(ctx);
+    return I1.scale(D.trace() / C);
+  }
+  const auto X = detail::pairedFiberInvariants(ctx, D, order);
   Derivs<N> out;
   out.value = stretchInvariantValue<R, C>(ctx, D, X);
   if (!wants(order, Order::Gradient)) return out;

@@ -71,12 +71,13 @@ inline void accumulateChain(Derivs<N> &out, const Derivs<N> *const (&z)[K], cons
   if (!wants(order, Order::Gradient)) return;
   Mat<N, K> G;
   for (int k = 0; k < K; ++k) G.col(k) = z[k]->grad;
-  out.grad.noalias() += G * first;
+  out.grad.noalias() += G.lazyProduct(first);
   if (!wants(order, Order::Hessian)) return;
   for (int k = 0; k < K; ++k)
     if (first[k] != 0.0) out.hess.noalias() += first[k] * z[k]->hess;
-  const Mat<N, K> GS = G * second;
-  out.hess.noalias() += GS * G.transpose();
+  // Small fixed-size products: coefficient-wise evaluation beats Eigen's blocked GEMM path here.
+  const Mat<N, K> GS = G.lazyProduct(second);
+  out.hess.noalias() += GS.lazyProduct(G.transpose());
 }
 
 // Scalar composition h(g(F)) with h', h'' known.
