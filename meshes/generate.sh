@@ -1,0 +1,94 @@
+#!/usr/bin/env bash
+# aries meshes: generate (once) and print the path of a cached mesh.
+#
+#   meshes/generate.sh NAME [SIZE]   print the path of meshes/cache/NAME_SIZE.msh, building it first
+#                                    if it is missing or was built by other generator sources.
+#                                    SIZE: test | default (the default) | paper
+#   meshes/generate.sh all [SIZE]    build every mesh of that size; prints one path per line
+#   meshes/generate.sh list          names, sizes, parameters, expected tet counts
+#
+# stdout carries only the path(s); the build log goes to stderr. Sizes are fixed presets (anything
+# else is refused), and each build is bounded: 8 GiB of address space and 15 minutes.
+# Next to NAME_SIZE.msh the cache holds NAME_SIZE.json (counts, quality, provenance), for the
+# octopus NAME_SIZE.fibers (per-cell fiber directions), and NAME_SIZE.stamp (generator hash).
+# Files appear atomically (built in a temporary directory, renamed into place, the .msh last);
+# concurrent calls for the same mesh wait for each other (flock). See meshes/README.md.
+set -euo pipefail
+
+HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+PY=/usr/bin/python3                 # Debian's python (numpy); not whatever python3 is on PATH
+export PYTHONDONTWRITEBYTECODE=1
+BUILD="$HERE/tools/build.py"
+CACHE="${ARIES_MESH_CACHE:-$HERE/cache}"
+MEM_LIMIT_KB=$((8 * 1024 * 1024))
+TIME_LIMIT=900
+
+die() { echo "generate.sh: $*" >&2; exit 2; }
+
+usage() { sed -n '2,16p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+
+[ -x "$PY" ] || die "$PY not found (apt-get install python3-numpy)"
+command -v gmsh >/dev/null || die "gmsh not found (apt-get install gmsh)"
+
+# Hash of everything that determines the mesh bytes: generator sources and the gmsh version.
+stamp() {
+  {
+    cat "$HERE/generate.sh" "$HERE"/tools/*.py "$HERE"/geo/*.geo
+    gmsh -version 2>&1 || true
+  } | sha256sum | cut -c1-16
+}
+
+generate() {
+  local name="$1" size="$2" canon out key st tmp
+  canon="$("$PY" "$BUILD" resolve "$name" "$size")" || exit 2
+  key="${name}_${canon}"
+  out="$CACHE/$key.msh"
+  st="$(stamp)"
+  if [ -f "$out" ] && [ "$(cat "$CACHE/$key.stamp" 2>/dev/null)" = "$st" ]; then
+    echo "$out"
+    return 0
+  fi
+  mkdir -p "$CACHE"
+  exec 9>"$CACHE/.$key.lock"
+  flock 9
+  # someone else may have finished it while we waited
+  if [ -f "$out" ] && [ "$(cat "$CACHE/$key.stamp" 2>/dev/null)" = "$st" ]; then
+    exec 9>&-
+    echo "$out"
+    return 0
+  fi
+  rm -rf "$CACHE/.tmp.$key".*             # leftovers of an interrupted build (we hold the lock)
+  tmp="$(mktemp -d "$CACHE/.tmp.$key.XXXXXX")"
+  trap "rm -rf '$tmp'" EXIT
+  echo "generate.sh: building $key (log below)" >&2
+  # timeout runs the build in its own process group and forwards INT/TERM to all of it (gmsh too)
+  (ulimit -v "$MEM_LIMIT_KB"; exec timeout "$TIME_LIMIT" "$PY" "$BUILD" build "$name" "$canon" "$tmp") >&2 &
+  local bpid=$!
+  trap "kill -TERM $bpid 2>/dev/null; wait $bpid; rm -rf '$tmp'; exit 130" INT TERM
+  if ! wait "$bpid"; then
+    die "building $key failed (limits: ${MEM_LIMIT_KB} KiB address space, ${TIME_LIMIT} s)"
+  fi
+  trap - INT TERM
+  rm -f "$CACHE/$key.stamp"
+  local f
+  for f in "$tmp/$key".*; do
+    [ "$f" = "$tmp/$key.msh" ] || mv -f "$f" "$CACHE/"
+  done
+  mv -f "$tmp/$key.msh" "$out"            # the .msh last: its presence means the set is complete
+  echo "$st" > "$tmp/stamp" && mv -f "$tmp/stamp" "$CACHE/$key.stamp"
+  rm -rf "$tmp"
+  trap - EXIT
+  exec 9>&-
+  echo "$out"
+}
+
+case "${1:-}" in
+  ""|-h|--help|help) usage ;;
+  list) exec "$PY" "$BUILD" list ;;
+  all)
+    [ $# -le 2 ] || usage
+    for n in cylinder cube armadillo bunny octopus; do generate "$n" "${2:-default}"; done ;;
+  *)
+    [ $# -le 2 ] || usage
+    generate "$1" "${2:-default}" ;;
+esac
