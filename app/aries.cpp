@@ -5,6 +5,7 @@
 #include "fem/discretization.hpp"
 #include "fem/errors.hpp"
 #include "fem/options.hpp"
+#include "io/run_output.hpp"
 #include "solver/simulation.hpp"
 
 #include <petscsys.h>
@@ -59,12 +60,16 @@ PetscErrorCode run(int *exitCode) {
   PetscCall(PetscLogStagePush(setupStage));
   solver::SimulationOptions simOpts;
   PetscCall(solver::readSimulationOptions(&simOpts));
+  io::OutputOptions outOpts;
+  PetscCall(io::readOutputOptions(&outOpts));
   fem::Mesh mesh;
   PetscCall(fem::loadMesh(comm, &mesh));
   std::unique_ptr<fem::Discretization> disc;
   PetscCall(fem::Discretization::create(mesh, &disc));
   solver::Simulation sim;
   PetscCall(sim.setup(*disc, simOpts));
+  io::RunOutput output;
+  PetscCall(output.setup(outOpts, *disc));
   PetscCall(PetscLogStagePop());
   if (strict) PetscCall(strictCheck());
 
@@ -79,7 +84,7 @@ PetscErrorCode run(int *exitCode) {
                         simOpts.integrator == solver::Integrator::Static ? "static" : "backward Euler",
                         (int)simOpts.steps, simOpts.dt, mesh.diagonal));
   solver::RunSummary summary;
-  PetscCall(sim.run(&summary));
+  PetscCall(sim.run(&output, &summary));
   PetscCall(PetscPrintf(comm,
                         "aries: %d steps, %d DoFs: Newton %.2f/step, PCG %.1f/step, %.4f s/step (total %.2f s); "
                         "safeguard halvings %d, load sub-steps %d%s\n",
@@ -87,7 +92,7 @@ PetscErrorCode run(int *exitCode) {
                         summary.avgSeconds, summary.totalSeconds, (int)summary.safeguardHalvings,
                         (int)summary.loadSubsteps,
                         summary.failedSteps ? (", FAILED steps " + std::to_string(summary.failedSteps)).c_str() : ""));
-  if (!simOpts.output.empty()) PetscCall(PetscPrintf(comm, "aries: output %s.xmf\n", simOpts.output.c_str()));
+  if (!outOpts.output.empty()) PetscCall(PetscPrintf(comm, "aries: output %s.xmf\n", outOpts.output.c_str()));
   if (summary.failed) {
     PetscCall(PetscPrintf(comm, "aries: step %d failed (%s); stopped (-on_failure stop). The last accepted state was "
                                 "written.\n",

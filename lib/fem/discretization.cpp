@@ -105,10 +105,10 @@ class DiscretizationT final : public Discretization {
   PetscErrorCode restPositions(Vec xGlobal) const override;
   PetscErrorCode setPrediction(Vec xTildeGlobal) override;
   PetscErrorCode lumpedMass(Vec massGlobal) const override;
-  PetscErrorCode objective(Vec xLocal, PetscReal *value) override;
-  PetscErrorCode gradient(Vec xLocal, Vec gLocal) override;
+  PetscErrorCode objective(Vec xLocal, PetscReal *value) const override;
+  PetscErrorCode gradient(Vec xLocal, Vec gLocal) const override;
   PetscErrorCode hessian(Vec xLocal, Mat J) override;
-  PetscErrorCode elasticEnergy(Vec xLocal, PetscReal *value) override;
+  PetscErrorCode elasticEnergy(Vec xLocal, PetscReal *value) const override;
   PetscErrorCode updateBarrierFallback(Vec xLocal, double threshold, PetscInt *count) override;
   PetscErrorCode cellAlpha(Vec xLocal, std::vector<double> *alpha) const override;
   PetscErrorCode cellQuantities(Vec xLocal, CellQuantities *q) const override;
@@ -122,6 +122,7 @@ class DiscretizationT final : public Discretization {
   void forEachOwnedFreeVertex(
       const std::function<void(PetscInt, PetscInt, const Eigen::Vector3d &)> &fn) const override;
   PetscErrorCode maxDisplacement(Vec xLocal, PetscReal *value) const override;
+  PetscErrorCode reactionForce(Vec xLocal, size_t set, Eigen::Vector3d *force) const override;
 
  private:
   struct Cell {
@@ -182,25 +183,18 @@ PetscErrorCode DiscretizationT<R, C>::setup(Mesh &mesh) {
   std::vector<std::string> regionIds;
   PetscBool set = PETSC_FALSE;
   PetscCall(optionWordList(nullptr, "-regions", &regionIds, &set));
-  std::vector<PetscInt> regionTags;
+  std::vector<std::pair<DMLabel, PetscInt>> regionLabels;  // (label, value) marking each region's cells
   for (const auto &rid : regionIds) {
-    double tagd;
-    PetscInt tag;
-    if (parseReal(rid, &tagd)) tag = static_cast<PetscInt>(tagd);
-    else {
-      auto it = mesh.physicalNames.find(rid);
-      if (it == mesh.physicalNames.end() || it->second.dim != mesh.topoDim)
-        SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -regions: '%s' is not a volume physical group of '%s'",
-                rid.c_str(), mesh.filename.c_str());
-      tag = it->second.tag;
-    }
+    DMLabel label;
+    PetscInt value;
+    PetscCall(regionLabel(mesh, rid, &label, &value));
     const std::string prefix = "region_" + rid + "_";
     energies::Material m;
     UniformCellData uc;
     PetscCall(readMaterialOptions(prefix.c_str(), shape, &base, &baseCell, &m, &uc));
     materials_.push_back(m);
     regionCells.push_back(uc);
-    regionTags.push_back(tag);
+    regionLabels.emplace_back(label, value);
   }
 
   // --- dynamics parameters ---------------------------------------------------------------------------------------
@@ -337,8 +331,6 @@ PetscErrorCode DiscretizationT<R, C>::setup(Mesh &mesh) {
   }
 
   // --- per-cell rest data --------------------------------------------------------------------------------------------
-  DMLabel cellSets = nullptr;
-  PetscCall(DMGetLabel(dm, "Cell Sets", &cellSets));
   const PetscInt nc = mesh.cEnd - mesh.cStart;
   cells_.resize(nc);
   std::vector<double> signedMeasure(nc);
@@ -372,11 +364,10 @@ PetscErrorCode DiscretizationT<R, C>::setup(Mesh &mesh) {
     cell.W.row(0) = -B.colwise().sum();
     cell.W.template bottomRows<C>() = B;
     cell.region = 0;
-    if (cellSets && !regionTags.empty()) {
+    for (size_t r = 0; r < regionLabels.size(); ++r) {
       PetscInt val;
-      PetscCall(DMLabelGetValue(cellSets, c, &val));
-      for (size_t r = 0; r < regionTags.size(); ++r)
-        if (regionTags[r] == val) cell.region = static_cast<int>(r + 1);
+      PetscCall(DMLabelGetValue(regionLabels[r].first, c, &val));
+      if (val == regionLabels[r].second) cell.region = static_cast<int>(r + 1);
     }
   }
   PetscCall(VecRestoreArrayRead(coordsLocal, &coords));
@@ -413,7 +404,7 @@ PetscErrorCode DiscretizationT<R, C>::setup(Mesh &mesh) {
   PetscCallMPI(MPI_Allreduce(&localMeasure, &restMeasure_, 1, MPI_DOUBLE, MPI_SUM, comm));
 
   // --- anisotropy data: uniform from options, per cell from files ---------------------------------------------------
-  bool perCell = regionTags.size() > 0;
+  bool perCell = !regionLabels.empty();
   std::vector<double> fibers, fibers2;
   std::string fiberFile, fiber2File;
   PetscBool hasFiberFile = PETSC_FALSE, hasFiber2File = PETSC_FALSE;
@@ -558,7 +549,7 @@ PetscErrorCode DiscretizationT<R, C>::vertexTermsObjective(const PetscScalar *x,
 }
 
 template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::elasticEnergy(Vec xLocal, PetscReal *value) {
+PetscErrorCode DiscretizationT<R, C>::elasticEnergy(Vec xLocal, PetscReal *value) const {
   const PetscScalar *x;
   MPI_Comm comm;
   PetscFunctionBeginUser;
@@ -577,7 +568,7 @@ PetscErrorCode DiscretizationT<R, C>::elasticEnergy(Vec xLocal, PetscReal *value
 }
 
 template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::objective(Vec xLocal, PetscReal *value) {
+PetscErrorCode DiscretizationT<R, C>::objective(Vec xLocal, PetscReal *value) const {
   const PetscScalar *x;
   MPI_Comm comm;
   PetscFunctionBeginUser;
@@ -600,7 +591,7 @@ PetscErrorCode DiscretizationT<R, C>::objective(Vec xLocal, PetscReal *value) {
 }
 
 template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::gradient(Vec xLocal, Vec gLocal) {
+PetscErrorCode DiscretizationT<R, C>::gradient(Vec xLocal, Vec gLocal) const {
   const PetscScalar *x;
   PetscScalar *g;
   PetscFunctionBeginUser;
@@ -749,6 +740,27 @@ PetscErrorCode DiscretizationT<R, C>::cellQuantities(Vec xLocal, CellQuantities 
         energies::evaluateEnergy<R, C>(materialOf(c), dataOf(c), F, kernels::Order::Value).value;
   }
   PetscCall(VecRestoreArrayRead(xLocal, &x));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::reactionForce(Vec xLocal, size_t set, Eigen::Vector3d *force) const {
+  MPI_Comm comm;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetComm((PetscObject)mesh_->dm, &comm));
+  Vec g;
+  PetscCall(VecDuplicate(xLocal, &g));
+  PetscCall(gradient(xLocal, g));  // Dirichlet vertices carry only elastic contributions of this rank's cells
+  const PetscScalar *ga;
+  PetscCall(VecGetArrayRead(g, &ga));
+  double f[3] = {0, 0, 0}, tot[3];
+  for (const auto &vi : verts_)
+    if (vi.bcSet == static_cast<int>(set))
+      for (int i = 0; i < R; ++i) f[i] += ga[vi.loc + i];
+  PetscCall(VecRestoreArrayRead(g, &ga));
+  PetscCall(VecDestroy(&g));
+  PetscCallMPI(MPI_Allreduce(f, tot, 3, MPI_DOUBLE, MPI_SUM, comm));
+  *force = Eigen::Vector3d(tot[0], tot[1], tot[2]);
   PetscFunctionReturn(0);
 }
 

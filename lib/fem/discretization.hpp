@@ -62,8 +62,8 @@ class Discretization {
   virtual PetscErrorCode lumpedMass(Vec massGlobal) const = 0;  // per free dof
 
   // Total potential (elastic + inertia + gravity) and its derivatives at a local state (boundary filled).
-  virtual PetscErrorCode objective(Vec xLocal, PetscReal *value) = 0;
-  virtual PetscErrorCode gradient(Vec xLocal, Vec gLocal) = 0;  // gLocal zeroed here; add to global with ADD_VALUES
+  virtual PetscErrorCode objective(Vec xLocal, PetscReal *value) const = 0;
+  virtual PetscErrorCode gradient(Vec xLocal, Vec gLocal) const = 0;  // gLocal zeroed here; add to global with ADD_VALUES
   virtual PetscErrorCode hessian(Vec xLocal, Mat J) = 0;        // assembled, PSD-projected per element
   // Barrier mode at singular elements (paper Sec. 7.1): elements whose alpha is below `threshold` in this state are
   // evaluated with the mollifier instead of the aberration barrier (b is undefined at alpha = 0) until a later
@@ -71,7 +71,7 @@ class Discretization {
   // Returns the number of such elements (collective).
   virtual PetscErrorCode updateBarrierFallback(Vec xLocal, double threshold, PetscInt *count) = 0;
   // Elastic energy only (for reports).
-  virtual PetscErrorCode elasticEnergy(Vec xLocal, PetscReal *value) = 0;
+  virtual PetscErrorCode elasticEnergy(Vec xLocal, PetscReal *value) const = 0;
 
   // alpha of every local cell at a local state; minimum over all cells (collective).
   virtual PetscErrorCode cellAlpha(Vec xLocal, std::vector<double> *alpha) const = 0;
@@ -90,6 +90,10 @@ class Discretization {
   // Free (non-Dirichlet) owned vertices: (natural id, global offset of its first dof, rest position).
   virtual void forEachOwnedFreeVertex(const std::function<void(PetscInt natural, PetscInt globalOffset,
                                                                const Eigen::Vector3d &rest)> &fn) const = 0;
+
+  // Reaction force on Dirichlet set `set` (index into boundary().sets): the sum over its vertices of the elastic
+  // internal force dE/dx (collective). Pulling a bar by +d gives a reaction along +d.
+  virtual PetscErrorCode reactionForce(Vec xLocal, size_t set, Eigen::Vector3d *force) const = 0;
 
   // Maximum distance of any vertex to its rest position (collective).
   virtual PetscErrorCode maxDisplacement(Vec xLocal, PetscReal *value) const = 0;

@@ -139,6 +139,10 @@ PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh) {
   PetscCall(checkReadable(comm, mesh->filename));
   PetscCall(readPhysicalNames(comm, mesh->filename, &mesh->physicalNames));
 
+  // Without this PETSc 3.18 drops gmsh point groups (pinned vertex sets) instead of labelling them.
+  PetscBool hasMark = PETSC_FALSE;
+  PetscCall(PetscOptionsHasName(nullptr, nullptr, "-dm_plex_gmsh_mark_vertices", &hasMark));
+  if (!hasMark) PetscCall(PetscOptionsSetValue(nullptr, "-dm_plex_gmsh_mark_vertices", "true"));
   DM serial = nullptr;
   PetscCall(DMPlexCreateFromFile(comm, mesh->filename.c_str(), "aries", PETSC_TRUE, &serial));
   PetscCall(DMGetDimension(serial, &mesh->topoDim));
@@ -257,20 +261,28 @@ PetscErrorCode physicalGroupVertices(const Mesh &mesh, const std::string &idOrNa
   MPI_Comm comm;
   PetscFunctionBeginUser;
   PetscCall(PetscObjectGetComm((PetscObject)mesh.dm, &comm));
-  std::vector<std::pair<const char *, PetscInt>> lookups;  // (label, value)
+  // (label, value): the "... Sets" label of the group's dimension, or, with -dm_plex_gmsh_use_regions, the label
+  // PETSc names after the group.
+  std::vector<std::pair<std::string, PetscInt>> lookups;
   double parsed;
   if (parseReal(idOrName, &parsed) && parsed == static_cast<double>(static_cast<PetscInt>(parsed))) {
-    for (const char *l : {"Face Sets", "Edge Sets", "Vertex Sets"}) lookups.emplace_back(l, static_cast<PetscInt>(parsed));
+    const PetscInt tag = static_cast<PetscInt>(parsed);
+    for (const char *l : {"Face Sets", "Edge Sets", "Vertex Sets"}) lookups.emplace_back(l, tag);
+    for (const auto &kv : mesh.physicalNames)
+      if (kv.second.tag == tag && kv.second.dim < mesh.topoDim) lookups.emplace_back(kv.first, tag);
   } else {
     auto it = mesh.physicalNames.find(idOrName);
-    if (it != mesh.physicalNames.end()) lookups.emplace_back(labelForDimension(mesh, it->second.dim), it->second.tag);
+    if (it != mesh.physicalNames.end()) {
+      lookups.emplace_back(labelForDimension(mesh, it->second.dim), it->second.tag);
+      lookups.emplace_back(it->first, it->second.tag);
+    }
   }
   std::set<PetscInt> verts;
   int localFound = 0;
   {
     for (const auto &[labelName, tag] : lookups) {
       DMLabel label;
-      PetscCall(DMGetLabel(mesh.dm, labelName, &label));
+      PetscCall(DMGetLabel(mesh.dm, labelName.c_str(), &label));
       if (!label) continue;
       IS points;
       PetscCall(DMLabelGetStratumIS(label, tag, &points));
@@ -297,6 +309,31 @@ PetscErrorCode physicalGroupVertices(const Mesh &mesh, const std::string &idOrNa
   PetscCallMPI(MPI_Allreduce(&localFound, &anyFound, 1, MPI_INT, MPI_MAX, comm));
   *found = anyFound != 0;
   vertices->assign(verts.begin(), verts.end());
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode regionLabel(const Mesh &mesh, const std::string &idOrName, DMLabel *label, PetscInt *value) {
+  PetscFunctionBeginUser;
+  *label = nullptr;
+  double parsed;
+  std::string name;
+  if (parseReal(idOrName, &parsed) && parsed == static_cast<double>(static_cast<PetscInt>(parsed))) {
+    *value = static_cast<PetscInt>(parsed);
+    for (const auto &kv : mesh.physicalNames)
+      if (kv.second.tag == *value && kv.second.dim == mesh.topoDim) name = kv.first;
+  } else {
+    auto it = mesh.physicalNames.find(idOrName);
+    if (it == mesh.physicalNames.end() || it->second.dim != mesh.topoDim)
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -regions: '%s' is not a volume physical group of '%s'",
+              idOrName.c_str(), mesh.filename.c_str());
+    name = it->first;
+    *value = it->second.tag;
+  }
+  PetscCall(DMGetLabel(mesh.dm, "Cell Sets", label));
+  if (!*label && !name.empty()) PetscCall(DMGetLabel(mesh.dm, name.c_str(), label));
+  if (!*label)
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -regions: mesh '%s' has no cell region '%s'",
+            mesh.filename.c_str(), idOrName.c_str());
   PetscFunctionReturn(0);
 }
 

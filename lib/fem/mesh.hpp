@@ -42,6 +42,10 @@ PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh);
 PetscErrorCode physicalGroupVertices(const Mesh &mesh, const std::string &idOrName, std::vector<PetscInt> *vertices,
                                      bool *found);
 
+// The label and value that mark the cells of a volume group (id or name): "Cell Sets", or the group's own label
+// under -dm_plex_gmsh_use_regions.
+PetscErrorCode regionLabel(const Mesh &mesh, const std::string &idOrName, DMLabel *label, PetscInt *value);
+
 // Human-readable list of the physical groups present (for error messages), collective.
 PetscErrorCode describePhysicalGroups(const Mesh &mesh, std::string *text);
 

@@ -1,6 +1,7 @@
 #include "io/stats.hpp"
 
 #include "fem/errors.hpp"
+#include "io/files.hpp"
 
 namespace aries::io {
 
@@ -14,7 +15,7 @@ PetscErrorCode StatsWriter::open(MPI_Comm comm, const std::string &path) {
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   bool bad = false;
   if (rank == 0) {
-    file_ = std::fopen(path.c_str(), "w");
+    file_ = makeParentDirectory(path) ? std::fopen(path.c_str(), "w") : nullptr;
     bad = !file_;
     if (file_) {
       std::fprintf(file_, "step,time,newton_its,ksp_its,wall_s,energy,min_alpha,max_disp,reason\n");

@@ -1,6 +1,7 @@
 #include "io/xdmf_writer.hpp"
 
 #include "fem/errors.hpp"
+#include "io/files.hpp"
 
 #include <hdf5.h>
 
@@ -8,7 +9,6 @@
 #include <fstream>
 #include <iomanip>
 #include <sstream>
-#include <sys/stat.h>
 
 namespace aries::io {
 
@@ -41,28 +41,6 @@ bool writeIntDataset(hid_t file, const char *path, const std::vector<PetscInt> &
   return ok;
 }
 
-std::string dirOf(const std::string &p) {
-  const auto s = p.find_last_of('/');
-  return s == std::string::npos ? "." : p.substr(0, s);
-}
-std::string nameOf(const std::string &p) {
-  const auto s = p.find_last_of('/');
-  return s == std::string::npos ? p : p.substr(s + 1);
-}
-bool makeDirs(const std::string &dir) {
-  std::string cur;
-  std::istringstream parts(dir);
-  std::string part;
-  if (!dir.empty() && dir[0] == '/') cur = "/";
-  while (std::getline(parts, part, '/')) {
-    if (part.empty()) continue;
-    cur += part + "/";
-    struct stat st;
-    if (stat(cur.c_str(), &st) != 0 && mkdir(cur.c_str(), 0755) != 0) return false;
-  }
-  return true;
-}
-
 }  // namespace
 
 PetscErrorCode XdmfWriter::open(MPI_Comm comm, const std::string &base, const std::vector<PetscInt> &cells,
@@ -72,8 +50,8 @@ PetscErrorCode XdmfWriter::open(MPI_Comm comm, const std::string &base, const st
   comm_ = comm;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   base_ = base;
-  dir_ = dirOf(base);
-  name_ = nameOf(base);
+  dir_ = directoryOf(base);
+  name_ = fileNameOf(base);
   if (name_.empty())
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -output '%s' needs a file name: -output DIR/NAME", base.c_str());
   meshFile_ = name_ + ".h5";
@@ -84,7 +62,7 @@ PetscErrorCode XdmfWriter::open(MPI_Comm comm, const std::string &base, const st
     numCells_ = static_cast<PetscInt>(cells.size() / verticesPerCell);
     numVertices_ = static_cast<PetscInt>(rest.size() / 3);
     rest_ = rest;
-    if (!makeDirs(dir_ + "/" + name_ + ".steps")) {
+    if (!makeDirectories(dir_ + "/" + name_ + ".steps")) {
       err = "cannot create output directory '" + dir_ + "/" + name_ + ".steps' (-output)";
     } else {
       const std::string tmp = base + ".h5.tmp";

@@ -2,6 +2,8 @@
 
 #include "fem/options.hpp"
 
+#include <cmath>
+
 namespace aries::solver {
 
 NewtonSolver::~NewtonSolver() {
@@ -67,9 +69,11 @@ PetscErrorCode NewtonSolver::alphaAcceptable(Vec xGlobal, const std::vector<doub
   PetscFunctionBeginUser;
   PetscCall(PetscObjectGetComm((PetscObject)xGlobal, &comm));
   PetscCall(alphasAt(xGlobal, &alpha));
+  // Paper Sec. 4.2: a step must not *cause* alpha to become less than the threshold. Elements already below it
+  // (an inside-out start has alpha = 0 everywhere) are left to the energy and its line search.
   int bad = 0;
   for (size_t c = 0; c < alpha.size() && !bad; ++c)
-    bad = !(alpha[c] >= std::min(alphaMin_, reference[c]));  // NaN alpha is never acceptable
+    bad = std::isnan(alpha[c]) || (reference[c] >= alphaMin_ && !(alpha[c] >= alphaMin_));
   int anyBad = 0;
   PetscCallMPI(MPI_Allreduce(&bad, &anyBad, 1, MPI_INT, MPI_MAX, comm));
   *ok = !anyBad;

@@ -1,9 +1,9 @@
 // Projected Newton on the total potential with PETSc SNES (newtonls), KSP CG + Jacobi by default:
 //  * the energy is the SNES objective (line searches backtrack on it), its gradient the residual, the assembled
 //    PSD-projected Hessian the Jacobian (DMSNES local callbacks; Dirichlet values filled by the boundary callback);
-//  * the alpha safeguard (paper Sec. 4.2) as line-search pre/post checks: no accepted step lets any element's alpha
-//    fall below min(-alpha_min, its alpha before the step); the step is halved until it holds. The pre-check covers
-//    bt/basic/l2/cp, the post-check catches line searches that extrapolate (lambda > 1);
+//  * the alpha safeguard (paper Sec. 4.2) as line-search pre/post checks: no accepted step makes an element's alpha
+//    drop below -alpha_min (elements already below it are not constrained); the step is halved until it holds. The
+//    pre-check covers bt/basic/l2/cp, the post-check catches line searches that extrapolate (lambda > 1);
 //  * convergence when the inf-norm of the full Newton step is below -newton_tol * L (* dt for dynamics), L the
 //    rest bounding-box diagonal (paper Sec. 6), or on PETSc's usual criteria.
 // Every default is a PETSc option and can be overridden (-snes_*, -ksp_*, -pc_*, -snes_linesearch_*).
@@ -32,7 +32,8 @@ class NewtonSolver {
   PetscErrorCode setup(fem::Discretization &disc, bool dynamic, double dt);
   PetscErrorCode solve(Vec x, NewtonResult *result);  // x: initial guess in, solution out (global, free dofs)
 
-  // alpha check of a state against reference alphas: true if every cell has alpha >= min(alphaMin, reference).
+  // alpha check of a state against reference alphas (the state before the step): true unless a cell whose reference
+  // alpha is >= alphaMin ends below alphaMin (or any alpha is NaN).
   PetscErrorCode alphaAcceptable(Vec xGlobal, const std::vector<double> &reference, bool *ok);
   PetscErrorCode alphasAt(Vec xGlobal, std::vector<double> *alpha);
   double alphaMin() const { return alphaMin_; }

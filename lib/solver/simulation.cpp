@@ -9,6 +9,8 @@ namespace aries::solver {
 
 namespace {
 
+constexpr PetscInt kMaxLoadSubsteps = 200;  // per step; beyond that the motion is reported as not followable
+
 // Counter-based random numbers: the same value for a (seed, vertex, component) on any number of ranks.
 double uniform01(uint64_t seed, uint64_t vertex, uint64_t component) {
   uint64_t z = seed * 0x9E3779B97F4A7C15ULL ^ (vertex * 0xBF58476D1CE4E5B9ULL + component * 0x94D049BB133111EBULL);
@@ -68,13 +70,6 @@ PetscErrorCode readSimulationOptions(SimulationOptions *o) {
               o->scrambleVolumeRatio);
     PetscCall(fem::optionInt(nullptr, "-scramble_seed", &o->scrambleSeed, &set));
   }
-  PetscCall(fem::optionString(nullptr, "-output", &o->output, &set));
-  if (set) {
-    PetscCall(fem::optionInt(nullptr, "-output_every", &o->outputEvery, &set));
-    if (o->outputEvery < 1)
-      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -output_every must be >= 1 (got %d)", (int)o->outputEvery);
-  }
-  PetscCall(fem::optionString(nullptr, "-stats", &o->stats, &set));
   PetscCall(fem::optionString(nullptr, "-on_failure", &s, &set));
   if (set) {
     if (s == "stop") o->onFailure = FailurePolicy::Stop;
@@ -111,18 +106,8 @@ PetscErrorCode Simulation::setup(fem::Discretization &disc, const SimulationOpti
   PetscCall(disc.restPositions(x_));
   PetscCall(disc.setLoad(0.0));
   PetscCall(applyInitialState());
-  if (!opts.stats.empty()) PetscCall(stats_.open(comm, opts.stats));
-  if (!opts.output.empty()) {
-    std::vector<PetscInt> cells;
-    std::vector<double> rest;
-    PetscCall(disc.gatherTopology(&cells));
-    PetscCall(disc.gatherRestPositions(&rest));
-    PetscCall(writer_.open(comm, opts.output, cells, disc.verticesPerCell(), rest));
-  }
   PetscCall(PetscLogStageGetId("solve", &solveStage_));
   if (solveStage_ < 0) PetscCall(PetscLogStageRegister("solve", &solveStage_));
-  PetscCall(PetscLogStageGetId("output", &outputStage_));
-  if (outputStage_ < 0) PetscCall(PetscLogStageRegister("output", &outputStage_));
   PetscFunctionReturn(0);
 }
 
@@ -166,7 +151,7 @@ PetscErrorCode Simulation::applyInitialState() {
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode Simulation::localState(Vec xLocal) {
+PetscErrorCode Simulation::localState(Vec xLocal) const {
   PetscFunctionBeginUser;
   PetscCall(DMGlobalToLocal(disc_->dm(), x_, INSERT_VALUES, xLocal));
   PetscCall(disc_->fillBoundary(xLocal));
@@ -178,19 +163,25 @@ PetscErrorCode Simulation::localState(Vec xLocal) {
 PetscErrorCode Simulation::solveToLoad(double loadTarget, NewtonResult *acc, bool *ok, std::string *reason) {
   PetscFunctionBeginUser;
   *ok = true;
-  int guard = 0;
-  while (true) {
+  for (PetscInt sub = 0;; ++sub) {
     const double s0 = disc_->load();
     double sTry = loadTarget;
     if (sTry != s0) {
       std::vector<double> ref;
       PetscCall(newton_.alphasAt(x_, &ref));
-      for (PetscInt k = 0; k < opts_.maxLoadHalvings; ++k) {
+      bool acceptable = false;
+      for (PetscInt k = 0; k <= opts_.maxLoadHalvings && !acceptable; ++k) {
+        if (k > 0) sTry = s0 + 0.5 * (sTry - s0);
         PetscCall(disc_->setLoad(sTry));
-        bool acceptable = false;
         PetscCall(newton_.alphaAcceptable(x_, ref, &acceptable));
-        if (acceptable) break;
-        sTry = s0 + 0.5 * (sTry - s0);
+      }
+      // No increment of the prescribed motion keeps every alpha acceptable (or the sub-steps do not finish):
+      // the boundary motion cannot be followed within the safeguard.
+      if (!acceptable || sub >= kMaxLoadSubsteps) {
+        PetscCall(disc_->setLoad(s0));
+        *ok = false;
+        *reason = "safeguard_load";
+        PetscFunctionReturn(0);
       }
       if (sTry != loadTarget) ++loadSubsteps_;
     }
@@ -208,7 +199,7 @@ PetscErrorCode Simulation::solveToLoad(double loadTarget, NewtonResult *acc, boo
       *ok = false;
       PetscFunctionReturn(0);
     }
-    if (sTry == loadTarget || ++guard > 1000) break;
+    if (sTry == loadTarget) break;
   }
   PetscFunctionReturn(0);
 }
@@ -272,88 +263,36 @@ PetscErrorCode Simulation::advance(double dt, double loadTarget, int depth, Newt
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode Simulation::writeOutput(PetscInt step, double time) {
+PetscErrorCode Simulation::run(StepObserver *observer, RunSummary *summary) {
   PetscFunctionBeginUser;
-  if (!writer_.isOpen()) PetscFunctionReturn(0);
-  PetscCall(PetscLogStagePush(outputStage_));
-  Vec xLocal;
-  PetscCall(DMGetLocalVector(disc_->dm(), &xLocal));
-  PetscCall(localState(xLocal));
-  std::vector<double> positions;
-  PetscCall(disc_->gatherVertexField(xLocal, &positions));
-  fem::CellQuantities q;
-  PetscCall(disc_->cellQuantities(xLocal, &q));
-  std::vector<double> fib;
-  PetscCall(disc_->cellFibers(&fib));
-  std::vector<io::CellField> fields(3);
-  fields[0] = {"alpha", 1, {}};
-  fields[1] = {"energy_density", 1, {}};
-  fields[2] = {"fiber", 3, {}};
-  PetscCall(disc_->gatherCellField(q.alpha, 1, &fields[0].values));
-  PetscCall(disc_->gatherCellField(q.energyDensity, 1, &fields[1].values));
-  PetscCall(disc_->gatherCellField(fib, 3, &fields[2].values));
-  PetscCall(DMRestoreLocalVector(disc_->dm(), &xLocal));
-  PetscCall(writer_.writeStep(step, time, positions, fields));
-  PetscCall(PetscLogStagePop());
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode Simulation::run(RunSummary *summary) {
-  MPI_Comm comm;
-  PetscFunctionBeginUser;
-  PetscCall(PetscObjectGetComm((PetscObject)x_, &comm));
   PetscCall(VecGetSize(x_, &summary->dofs));
   const PetscInt steps = opts_.steps;
   const PetscInt ramp = disc_->boundary().rampSteps > 0 ? disc_->boundary().rampSteps : steps;
-  PetscCall(writeOutput(0, 0.0));
+  if (observer) PetscCall(observer->initial(*this));
   double totalNewton = 0, totalLinear = 0, totalSeconds = 0;
-  Vec xLocal;
-  PetscCall(DMGetLocalVector(disc_->dm(), &xLocal));
   for (PetscInt step = 1; step <= steps; ++step) {
     const double t0 = MPI_Wtime();
     const double loadTarget = std::min(1.0, static_cast<double>(step) / static_cast<double>(ramp));
-    NewtonResult acc;
-    bool ok = true;
-    std::string reason;
-    PetscCall(advance(opts_.dt, loadTarget, 0, &acc, &ok, &reason));
-    const double seconds = MPI_Wtime() - t0;
-
-    io::StepStats st;
-    st.step = step;
-    st.time = step * opts_.dt;
-    st.newtonIterations = acc.newtonIterations;
-    st.linearIterations = acc.linearIterations;
-    st.wallSeconds = seconds;
-    st.reason = reason;
-    PetscCall(localState(xLocal));
-    PetscCall(disc_->elasticEnergy(xLocal, &st.energy));
-    std::vector<double> alpha;
-    PetscCall(disc_->cellAlpha(xLocal, &alpha));
-    double amin = PETSC_MAX_REAL, gmin;
-    for (double a : alpha) amin = std::min(amin, a);
-    PetscCallMPI(MPI_Allreduce(&amin, &gmin, 1, MPI_DOUBLE, MPI_MIN, comm));
-    st.minAlpha = gmin;
-    PetscCall(disc_->maxDisplacement(xLocal, &st.maxDisplacement));
-    PetscCall(stats_.append(st));
-
-    totalNewton += acc.newtonIterations;
-    totalLinear += acc.linearIterations;
-    totalSeconds += seconds;
+    StepReport rep;
+    rep.step = step;
+    rep.steps = steps;
+    rep.time = step * opts_.dt;
+    PetscCall(advance(opts_.dt, loadTarget, 0, &rep.newton, &rep.ok, &rep.reason));
+    rep.wallSeconds = MPI_Wtime() - t0;
+    rep.stopping = step == steps || (!rep.ok && opts_.onFailure == FailurePolicy::Stop);
+    totalNewton += rep.newton.newtonIterations;
+    totalLinear += rep.newton.linearIterations;
+    totalSeconds += rep.wallSeconds;
     summary->stepsDone = step;
-    summary->safeguardHalvings += acc.safeguardHalvings;
-    summary->lastReason = reason;
-    if (!ok) ++summary->failedSteps;
-    PetscCall(PetscPrintf(comm, "step %d/%d  t=%g  newton %d  cg %d  min_alpha %.3e  %.3f s  %s%s\n", (int)step,
-                          (int)steps, st.time, (int)acc.newtonIterations, (int)acc.linearIterations, gmin, seconds,
-                          reason.c_str(), acc.safeguardHalvings ? (" (safeguard halved the step " + std::to_string(acc.safeguardHalvings) + "x)").c_str() : ""));
-    const bool stop = !ok && opts_.onFailure == FailurePolicy::Stop;
-    if (step % opts_.outputEvery == 0 || step == steps || stop) PetscCall(writeOutput(step, st.time));
-    if (stop) {
+    summary->safeguardHalvings += rep.newton.safeguardHalvings;
+    summary->lastReason = rep.reason;
+    if (!rep.ok) ++summary->failedSteps;
+    if (observer) PetscCall(observer->afterStep(*this, rep));
+    if (!rep.ok && opts_.onFailure == FailurePolicy::Stop) {
       summary->failed = true;
       break;
     }
   }
-  PetscCall(DMRestoreLocalVector(disc_->dm(), &xLocal));
   const double n = std::max<PetscInt>(1, summary->stepsDone);
   summary->avgNewton = totalNewton / n;
   summary->avgLinear = totalLinear / n;

@@ -4,15 +4,13 @@
 // Moving boundaries: the prescribed motion is ramped with the load parameter s = min(1, step / -bc_ramp_steps).
 // Dirichlet values are eliminated, so moving them displaces the boundary vertices before any line search; the
 // alpha safeguard therefore also guards the load increment: if moving the boundary would drop an element's alpha
-// below min(-alpha_min, its current alpha), the increment is halved and the step is solved in sub-increments.
+// below -alpha_min, the increment is halved and the step is solved in sub-increments.
 //
 // Failure policy (-on_failure): stop (default; the run ends with exit code 3 after writing the stats row and the
 // last accepted state), halve_dt (retry the step as two half steps, up to -max_step_halvings times), continue (keep
 // the last finite iterate, record the reason, go on).
 #pragma once
 
-#include "io/stats.hpp"
-#include "io/xdmf_writer.hpp"
 #include "solver/newton.hpp"
 
 namespace aries::solver {
@@ -28,9 +26,6 @@ struct SimulationOptions {
   InitialState initial = InitialState::Rest;
   double scrambleVolumeRatio = 2.0;
   PetscInt scrambleSeed = 1;
-  std::string output;
-  PetscInt outputEvery = 1;
-  std::string stats;
   FailurePolicy onFailure = FailurePolicy::Stop;
   PetscInt maxStepHalvings = 6;
   PetscInt maxLoadHalvings = 20;
@@ -46,27 +41,49 @@ struct RunSummary {
   std::string lastReason;
 };
 
+// What one step did; handed to the observer after the step.
+struct StepReport {
+  PetscInt step = 0, steps = 0;
+  double time = 0.0, wallSeconds = 0.0;
+  NewtonResult newton;  // accumulated over load sub-steps and step halvings
+  std::string reason;
+  bool ok = true;
+  bool stopping = false;  // the run ends after this step (last step, or a failure under -on_failure stop)
+};
+
+class Simulation;
+
+// Receives the initial state and every step (output, statistics, console). Implemented above the solver layer
+// (lib/io), so the time loop does not depend on how results are written.
+class StepObserver {
+ public:
+  virtual ~StepObserver() = default;
+  virtual PetscErrorCode initial(const Simulation &sim) = 0;
+  virtual PetscErrorCode afterStep(const Simulation &sim, const StepReport &report) = 0;
+};
+
 class Simulation {
  public:
   ~Simulation();
   PetscErrorCode setup(fem::Discretization &disc, const SimulationOptions &opts);
-  PetscErrorCode run(RunSummary *summary);
+  PetscErrorCode run(StepObserver *observer, RunSummary *summary);
   Vec state() const { return x_; }
+  const fem::Discretization &discretization() const { return *disc_; }
+  fem::Discretization &discretization() { return *disc_; }
+  const SimulationOptions &options() const { return opts_; }
+  // Local copy of the state with the Dirichlet values filled (caller restores with DMRestoreLocalVector).
+  PetscErrorCode localState(Vec xLocal) const;
 
  private:
   PetscErrorCode applyInitialState();
   PetscErrorCode advance(double dt, double loadTarget, int depth, NewtonResult *acc, bool *ok, std::string *reason);
   PetscErrorCode solveToLoad(double loadTarget, NewtonResult *acc, bool *ok, std::string *reason);
-  PetscErrorCode writeOutput(PetscInt step, double time);
-  PetscErrorCode localState(Vec xLocal);
 
   fem::Discretization *disc_ = nullptr;
   SimulationOptions opts_;
   NewtonSolver newton_;
   Vec x_ = nullptr, v_ = nullptr, xPrev_ = nullptr, vPrev_ = nullptr, xTilde_ = nullptr;
-  io::XdmfWriter writer_;
-  io::StatsWriter stats_;
-  PetscLogStage solveStage_ = -1, outputStage_ = -1;
+  PetscLogStage solveStage_ = -1;
   PetscInt loadSubsteps_ = 0;
 };
 

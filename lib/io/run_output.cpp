@@ -1,0 +1,128 @@
+#include "io/run_output.hpp"
+
+#include "fem/errors.hpp"
+#include "fem/options.hpp"
+#include "io/files.hpp"
+
+namespace aries::io {
+
+PetscErrorCode readOutputOptions(OutputOptions *o) {
+  PetscBool set = PETSC_FALSE;
+  PetscFunctionBeginUser;
+  PetscCall(fem::optionString(nullptr, "-output", &o->output, &set));
+  if (set) {
+    PetscCall(fem::optionInt(nullptr, "-output_every", &o->outputEvery, nullptr));
+    if (o->outputEvery < 1)
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -output_every must be >= 1 (got %d)", (int)o->outputEvery);
+  }
+  PetscCall(fem::optionString(nullptr, "-stats", &o->stats, nullptr));
+  PetscCall(fem::optionString(nullptr, "-reactions", &o->reactions, nullptr));
+  PetscFunctionReturn(0);
+}
+
+RunOutput::~RunOutput() {
+  if (reactions_) std::fclose(reactions_);
+}
+
+PetscErrorCode RunOutput::setup(const OutputOptions &opts, const fem::Discretization &disc) {
+  PetscMPIInt rank;
+  PetscFunctionBeginUser;
+  opts_ = opts;
+  PetscCall(PetscObjectGetComm((PetscObject)disc.dm(), &comm_));
+  PetscCallMPI(MPI_Comm_rank(comm_, &rank));
+  if (!opts.stats.empty()) PetscCall(stats_.open(comm_, opts.stats));
+  if (!opts.reactions.empty()) {
+    if (rank == 0) {
+      reactions_ = makeParentDirectory(opts.reactions) ? std::fopen(opts.reactions.c_str(), "w") : nullptr;
+      if (reactions_) std::fprintf(reactions_, "step,time,set,fx,fy,fz\n");
+    }
+    PetscCall(fem::collectiveCheck(comm_, rank == 0 && !reactions_,
+                                   "cannot open reactions file '" + opts.reactions + "' for writing (-reactions)"));
+  }
+  if (!opts.output.empty()) {
+    std::vector<PetscInt> cells;
+    std::vector<double> rest;
+    PetscCall(disc.gatherTopology(&cells));
+    PetscCall(disc.gatherRestPositions(&rest));
+    PetscCall(writer_.open(comm_, opts.output, cells, disc.verticesPerCell(), rest));
+  }
+  PetscCall(PetscLogStageGetId("output", &outputStage_));
+  if (outputStage_ < 0) PetscCall(PetscLogStageRegister("output", &outputStage_));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode RunOutput::writeState(const solver::Simulation &sim, PetscInt step, double time) {
+  PetscFunctionBeginUser;
+  if (!writer_.isOpen()) PetscFunctionReturn(0);
+  const fem::Discretization &disc = sim.discretization();
+  PetscCall(PetscLogStagePush(outputStage_));
+  Vec xLocal;
+  PetscCall(DMGetLocalVector(disc.dm(), &xLocal));
+  PetscCall(sim.localState(xLocal));
+  std::vector<double> positions;
+  PetscCall(disc.gatherVertexField(xLocal, &positions));
+  fem::CellQuantities q;
+  PetscCall(disc.cellQuantities(xLocal, &q));
+  std::vector<double> fib;
+  PetscCall(disc.cellFibers(&fib));
+  std::vector<CellField> fields(3);
+  fields[0] = {"alpha", 1, {}};
+  fields[1] = {"energy_density", 1, {}};
+  fields[2] = {"fiber", 3, {}};
+  PetscCall(disc.gatherCellField(q.alpha, 1, &fields[0].values));
+  PetscCall(disc.gatherCellField(q.energyDensity, 1, &fields[1].values));
+  PetscCall(disc.gatherCellField(fib, 3, &fields[2].values));
+  PetscCall(DMRestoreLocalVector(disc.dm(), &xLocal));
+  PetscCall(writer_.writeStep(step, time, positions, fields));
+  PetscCall(PetscLogStagePop());
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode RunOutput::initial(const solver::Simulation &sim) {
+  PetscFunctionBeginUser;
+  PetscCall(writeState(sim, 0, 0.0));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode RunOutput::afterStep(const solver::Simulation &sim, const solver::StepReport &rep) {
+  PetscFunctionBeginUser;
+  const fem::Discretization &disc = sim.discretization();
+  Vec xLocal;
+  PetscCall(DMGetLocalVector(disc.dm(), &xLocal));
+  PetscCall(sim.localState(xLocal));
+  StepStats st;
+  st.step = rep.step;
+  st.time = rep.time;
+  st.newtonIterations = rep.newton.newtonIterations;
+  st.linearIterations = rep.newton.linearIterations;
+  st.wallSeconds = rep.wallSeconds;
+  st.reason = rep.reason;
+  PetscCall(disc.elasticEnergy(xLocal, &st.energy));
+  std::vector<double> alpha;
+  PetscCall(disc.cellAlpha(xLocal, &alpha));
+  double amin = PETSC_MAX_REAL;
+  for (double a : alpha) amin = std::min(amin, a);
+  PetscCallMPI(MPI_Allreduce(&amin, &st.minAlpha, 1, MPI_DOUBLE, MPI_MIN, comm_));
+  PetscCall(disc.maxDisplacement(xLocal, &st.maxDisplacement));
+  PetscCall(stats_.append(st));
+  if (!opts_.reactions.empty())
+    for (size_t set = 0; set < disc.boundary().sets.size(); ++set) {
+      Eigen::Vector3d f;
+      PetscCall(disc.reactionForce(xLocal, set, &f));
+      if (reactions_) {
+        std::fprintf(reactions_, "%d,%.10g,%s,%.17g,%.17g,%.17g\n", (int)rep.step, rep.time,
+                     disc.boundary().sets[set].id.c_str(), f[0], f[1], f[2]);
+        std::fflush(reactions_);
+      }
+    }
+  PetscCall(DMRestoreLocalVector(disc.dm(), &xLocal));
+  const std::string halved =
+      rep.newton.safeguardHalvings ? " (safeguard halved the step " + std::to_string(rep.newton.safeguardHalvings) + "x)" : "";
+  PetscCall(PetscPrintf(comm_, "step %d/%d  t=%g  newton %d  cg %d  min_alpha %.3e  %.3f s  %s%s\n", (int)rep.step,
+                        (int)rep.steps, rep.time, (int)rep.newton.newtonIterations, (int)rep.newton.linearIterations,
+                        st.minAlpha, rep.wallSeconds, rep.reason.c_str(), halved.c_str()));
+  if (rep.step % opts_.outputEvery == 0 || rep.stopping) PetscCall(writeState(sim, rep.step, rep.time));
+  PetscFunctionReturn(0);
+}
+
+}  // namespace aries::io

@@ -1,0 +1,40 @@
+// What a run writes while it goes: one console line per step, the -stats CSV, the -reactions CSV and the
+// HDF5/XDMF output (-output, -output_every). Implements the solver's StepObserver.
+#pragma once
+
+#include "io/stats.hpp"
+#include "io/xdmf_writer.hpp"
+#include "solver/simulation.hpp"
+
+#include <cstdio>
+
+namespace aries::io {
+
+struct OutputOptions {
+  std::string output;      // DIR/NAME
+  PetscInt outputEvery = 1;
+  std::string stats;       // FILE.csv
+  std::string reactions;   // FILE.csv
+};
+
+PetscErrorCode readOutputOptions(OutputOptions *opts);
+
+class RunOutput final : public solver::StepObserver {
+ public:
+  ~RunOutput() override;
+  PetscErrorCode setup(const OutputOptions &opts, const fem::Discretization &disc);  // collective: opens files
+  PetscErrorCode initial(const solver::Simulation &sim) override;
+  PetscErrorCode afterStep(const solver::Simulation &sim, const solver::StepReport &report) override;
+
+ private:
+  PetscErrorCode writeState(const solver::Simulation &sim, PetscInt step, double time);
+
+  OutputOptions opts_;
+  MPI_Comm comm_ = MPI_COMM_NULL;
+  XdmfWriter writer_;
+  StatsWriter stats_;
+  std::FILE *reactions_ = nullptr;
+  PetscLogStage outputStage_ = -1;
+};
+
+}  // namespace aries::io
