@@ -1,0 +1,290 @@
+#!/usr/bin/env python3
+"""End-to-end cases of aries with their expected values (registered with CTest by ctest/e2e.cmake).
+
+usage: e2e.py CASE --aries BIN --root REPO --work DIR [--ranks N]
+
+Each case runs the solver on a small test mesh (meshes/generate.sh NAME test) and asserts a physical outcome:
+rest shape recovered, reaction force of linear elasticity, stiffness ratio, ranks agreeing, the alpha safeguard
+acting, a baseline failing cleanly. Exit 0 = pass; a failure prints what was expected and what was measured.
+Needs Debian's python3-h5py and numpy (run with /usr/bin/python3).
+"""
+import argparse
+import csv
+import glob
+import os
+import re
+import subprocess
+import sys
+
+import h5py
+import numpy as np
+
+ARGS = None
+
+
+def fail(msg):
+    print("FAIL: " + msg)
+    sys.exit(1)
+
+
+def mesh(name):
+    out = subprocess.run([os.path.join(ARGS.root, "meshes", "generate.sh"), name, "test"], capture_output=True,
+                         text=True)
+    if out.returncode != 0:
+        fail("mesh generation failed: " + out.stderr[-2000:])
+    return out.stdout.strip().splitlines()[-1]
+
+
+def run(args, ranks=None, expect_code=0, tag="run"):
+    """Runs aries; returns (stdout+stderr, exit code). Fails unless the exit code is `expect_code`."""
+    n = ranks or ARGS.ranks
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+               OMPI_MCA_rmaps_base_oversubscribe="1", OMPI_MCA_mpi_yield_when_idle="1")
+    cmd = ([ARGS.aries] if n == 1 else ["mpiexec", "-n", str(n), "--bind-to", "none", ARGS.aries]) + args
+    print("$ " + " ".join(cmd), flush=True)
+    p = subprocess.run(cmd, capture_output=True, text=True, env=env, cwd=ARGS.work, timeout=900)
+    log = p.stdout + p.stderr
+    with open(os.path.join(ARGS.work, tag + ".log"), "w") as fh:
+        fh.write(log)
+    print("\n".join(log.splitlines()[-4:]))
+    if expect_code is not None and p.returncode != expect_code:
+        fail("exit code %d, expected %d; log tail:\n%s" % (p.returncode, expect_code, log[-3000:]))
+    return log, p.returncode
+
+
+def out_base(tag):
+    return os.path.join(ARGS.work, "out", tag)
+
+
+def read_state(base, step=None):
+    with h5py.File(base + ".h5", "r") as f:
+        rest = f["/mesh/rest"][:]
+        cells = f["/mesh/topology"][:]
+    d, n = os.path.dirname(base), os.path.basename(base)
+    files = sorted(glob.glob(os.path.join(d, n + ".steps", n + "_*.h5")))
+    if not files:
+        fail("no output steps for " + base)
+    path = files[-1] if step is None else os.path.join(d, n + ".steps", "%s_%06d.h5" % (n, step))
+    with h5py.File(path, "r") as f:
+        x = f["/positions"][:]
+        alpha = f["/cell/alpha"][:]
+    return rest, cells, x, alpha
+
+
+def shape_error(base, rigid):
+    rest, _, x, _ = read_state(base)
+    if not np.all(np.isfinite(x)):
+        fail("NaN/Inf in the final positions of " + base)
+    L = np.linalg.norm(rest.max(0) - rest.min(0))
+    if rigid:  # best rotation + translation (Kabsch): free-floating bodies may recover rotated
+        cr, cx = rest.mean(0), x.mean(0)
+        U, _, Vt = np.linalg.svd((x - cx).T @ (rest - cr))
+        D = np.diag([1, 1, np.sign(np.linalg.det(Vt.T @ U.T))])
+        x = ((Vt.T @ D @ U.T) @ (x - cx).T).T + cr
+    return np.linalg.norm(x - rest, axis=1).max() / L, L
+
+
+def stats(path):
+    with open(path) as fh:
+        rows = list(csv.DictReader(fh))
+    if not rows:
+        fail("empty stats " + path)
+    return rows
+
+
+def summary_value(log, key):
+    m = re.search(key + r" (\d+)", log)
+    if not m:
+        fail("no '%s' in the run summary" % key)
+    return int(m.group(1))
+
+
+def volume(rest, cells):
+    p = rest[cells]
+    return np.abs(np.einsum("ij,ij->i", p[:, 1] - p[:, 0], np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 0]))).sum() / 6
+
+
+# ---- cases ------------------------------------------------------------------------------------------------------
+
+def case_scramble():
+    """Armadillo scramble (hands and feet pinned) recovers the rest shape: max distance <= 1e-3 L, no NaN."""
+    tag = "scramble_np%d" % ARGS.ranks
+    run(["-dm_plex_filename", mesh("armadillo"), "-energy", "iarap", "-E", "1e5", "-nu", "0", "-bc_clamp",
+         "hands_feet", "-initial", "scramble", "-scramble_seed", "3", "-steps", "1", "-output", out_base(tag),
+         "-stats", out_base(tag) + ".csv"], tag=tag)
+    err, _ = shape_error(out_base(tag), rigid=False)
+    print("max distance to rest / L = %.3e (limit 1e-3)" % err)
+    if not err <= 1e-3:
+        fail("scramble not recovered: %.3e L" % err)
+
+
+def case_inside_out(mode):
+    """Inside-out bunny (every element at alpha = 0) recovers its shape with the given fix: <= 1e-3 L up to a
+    rigid motion (the body floats free), no NaN."""
+    tag = "inside_out_%s_np%d" % (mode, ARGS.ranks)
+    run(["-dm_plex_filename", mesh("bunny"), "-energy", "iarap", "-E", "1e4", "-nu", "0", "-singularity", mode,
+         "-initial", "invert", "-integrator", "beuler", "-dt", "0.2", "-steps", "60", "-output", out_base(tag),
+         "-output_every", "60", "-stats", out_base(tag) + ".csv"], tag=tag)
+    err, _ = shape_error(out_base(tag), rigid=True)
+    first = stats(out_base(tag) + ".csv")[0]
+    print("step 1 min_alpha %s; final max distance to rest (rigidly aligned) / L = %.3e (limit 1e-3)"
+          % (first["min_alpha"], err))
+    if not err <= 1e-3:
+        fail("inside-out not recovered: %.3e L" % err)
+
+
+def case_cylinder_reaction():
+    """Cylinder pulled by strain 1e-3 (nu = 0, both ends clamped): reaction = E A eps of linear elasticity within 2%
+    (A = mesh volume / length, the discrete cross-section)."""
+    tag = "cylinder_np%d" % ARGS.ranks
+    E, strain, length = 1e4, 1e-3, 2.0
+    run(["-dm_plex_filename", mesh("cylinder"), "-energy", "iarap", "-E", str(E), "-nu", "0", "-bc_clamp",
+         "bottom,top", "-bc_clamp_top_translate", "0,0,%g" % (strain * length), "-steps", "1", "-output",
+         out_base(tag), "-reactions", out_base(tag) + "_reactions.csv"], tag=tag)
+    rest, cells, _, _ = read_state(out_base(tag))
+    area = volume(rest, cells) / (rest[:, 2].max() - rest[:, 2].min())
+    expected = E * area * strain
+    rows = {r["set"]: r for r in stats(out_base(tag) + "_reactions.csv")}
+    fz, fz_bottom = float(rows["top"]["fz"]), float(rows["bottom"]["fz"])
+    rel = abs(fz - expected) / expected
+    print("reaction top %.6g, bottom %.6g, E A eps %.6g: relative error %.2e (limit 2e-2)"
+          % (fz, fz_bottom, expected, rel))
+    if not rel <= 0.02:
+        fail("reaction force %.6g differs from E A eps = %.6g by %.2f%%" % (fz, expected, 100 * rel))
+    if not abs(fz + fz_bottom) <= 1e-6 * abs(fz):
+        fail("reactions do not balance: top %.6g, bottom %.6g" % (fz, fz_bottom))
+
+
+def case_ortho_cube():
+    """Orthotropic cube (mu_y = 10 mu_x, lambda = 0): pulling along y needs 10x the force of pulling along x by the
+    same strain (each reaction = 2 mu_k A eps within 2%; the ratio within 2% of 10)."""
+    mu_x, mu_y, strain = 100.0, 1000.0, 1e-3
+    reactions = {}
+    for axis, clamp, moving, vec in (("x", "left,right", "right", "%g,0,0" % strain),
+                                     ("y", "front,back", "back", "0,%g,0" % strain)):
+        tag = "ortho_%s_np%d" % (axis, ARGS.ranks)
+        run(["-dm_plex_filename", mesh("cube"), "-energy", "ortho", "-mu", "1", "-lambda", "0", "-ortho_mu",
+             "%g,%g,%g" % (mu_x, mu_y, mu_x), "-fiber", "1,0,0", "-fiber2", "0,1,0", "-bc_clamp", clamp,
+             "-bc_clamp_%s_translate" % moving, vec, "-steps", "1",
+             "-reactions", out_base(tag) + "_reactions.csv"], tag=tag)
+        rows = {r["set"]: r for r in stats(out_base(tag) + "_reactions.csv")}
+        reactions[axis] = float(rows[moving]["f" + axis])
+    ratio = reactions["y"] / reactions["x"]
+    print("reaction x %.6g (2 mu_x A eps = %.6g), y %.6g (%.6g): ratio %.4f (expected 10)"
+          % (reactions["x"], 2 * mu_x * strain, reactions["y"], 2 * mu_y * strain, ratio))
+    for axis, mu in (("x", mu_x), ("y", mu_y)):
+        if not abs(reactions[axis] - 2 * mu * strain) <= 0.02 * 2 * mu * strain:
+            fail("reaction along %s = %.6g, expected 2 mu A eps = %.6g" % (axis, reactions[axis], 2 * mu * strain))
+    if not abs(ratio - mu_y / mu_x) <= 0.02 * mu_y / mu_x:
+        fail("stiffness ratio %.4f, expected %.1f" % (ratio, mu_y / mu_x))
+
+
+def case_ranks_agree():
+    """-n 1 and -n 2 give the same final positions to 1e-8 L (scramble: the hardest path)."""
+    bases = []
+    for n in (1, 2):
+        tag = "agree_np%d" % n
+        run(["-dm_plex_filename", mesh("armadillo"), "-energy", "iarap", "-E", "1e5", "-nu", "0", "-bc_clamp",
+             "hands_feet", "-initial", "scramble", "-integrator", "beuler", "-dt", "1e-2", "-steps", "3",
+             "-output", out_base(tag), "-output_every", "3"], ranks=n, tag=tag)
+        bases.append(out_base(tag))
+    rest, _, x1, _ = read_state(bases[0])
+    _, _, x2, _ = read_state(bases[1])
+    L = np.linalg.norm(rest.max(0) - rest.min(0))
+    diff = np.abs(x1 - x2).max() / L
+    print("max |x(n=1) - x(n=2)| / L = %.3e (limit 1e-8)" % diff)
+    if not diff <= 1e-8:
+        fail("1 and 2 ranks disagree by %.3e L" % diff)
+
+
+def case_safeguard(linesearch):
+    """The alpha safeguard halves Newton steps that would push an element's alpha below -alpha_min (raised here to
+    1 so that it acts during an inside-out recovery), the run still recovers, and no element that was above the
+    threshold ends below it."""
+    tag = "safeguard_%s_np%d" % (linesearch, ARGS.ranks)
+    log, _ = run(["-dm_plex_filename", mesh("cube"), "-energy", "iarap", "-E", "1e4", "-nu", "0", "-initial",
+                  "invert", "-integrator", "beuler", "-dt", "0.2", "-steps", "60", "-alpha_min", "1",
+                  "-snes_linesearch_type", linesearch, "-output", out_base(tag), "-output_every", "60",
+                  "-stats", out_base(tag) + ".csv"], tag=tag)
+    halvings = summary_value(log, "safeguard halvings")
+    err, _ = shape_error(out_base(tag), rigid=True)
+    final_alpha = float(stats(out_base(tag) + ".csv")[-1]["min_alpha"])
+    print("safeguard halvings %d; final min alpha %.3e; distance to rest %.3e L" % (halvings, final_alpha, err))
+    if halvings <= 0:
+        fail("no step was halved by the safeguard")
+    if not err <= 1e-3:
+        fail("not recovered under the safeguard: %.3e L" % err)
+    if not final_alpha >= 1.0:
+        fail("final min alpha %.3e below -alpha_min 1" % final_alpha)
+
+
+def case_kim_aa_fails():
+    """Kim 2019's Psi_AA on the scramble fails at the first step, reported cleanly: exit code 3, a stats row with a
+    'diverged_*' reason, a readable output of the last accepted state, no crash, no hang (CTest timeout)."""
+    tag = "kim_aa_np%d" % ARGS.ranks
+    log, _ = run(["-dm_plex_filename", mesh("armadillo"), "-energy", "kim_aa", "-E", "1e5", "-nu", "0",
+                  "-bc_clamp", "hands_feet", "-initial", "scramble", "-integrator", "beuler", "-steps", "5",
+                  "-output", out_base(tag), "-stats", out_base(tag) + ".csv"], expect_code=3, tag=tag)
+    rows = stats(out_base(tag) + ".csv")
+    print("stats rows %d, reason '%s'" % (len(rows), rows[-1]["reason"]))
+    if not rows[-1]["reason"].startswith("diverged"):
+        fail("expected a diverged_* reason, got " + rows[-1]["reason"])
+    if "failed" not in log:
+        fail("the console does not say the step failed")
+    _, _, x, _ = read_state(out_base(tag))
+    if not np.all(np.isfinite(x)):
+        fail("the written state is not finite")
+
+
+def case_options_file(name):
+    """A shipped options file runs with -options_left clean (no unused option) on the test-size mesh of its scene."""
+    path = os.path.join(ARGS.root, "options", name + ".yml")
+    text = open(path).read()
+    m = re.search(r"^dm_plex_filename:\s*meshes/cache/(\w+?)_(default|paper)\.msh", text, re.M)
+    if not m:
+        fail("%s does not name a meshes/cache mesh" % path)
+    msh = mesh(m.group(1))
+    extra = ["-fiber_file", msh[:-4] + ".fibers"] if "fiber_file" in text else []
+    tag = "options_%s_np%d" % (name, ARGS.ranks)
+    expect = 3 if "kim_aa" in name else 0
+    log, _ = run(["-options_file", path, "-dm_plex_filename", msh] + extra +
+                 ["-steps", "2", "-output", out_base(tag), "-stats", out_base(tag) + ".csv", "-options_left",
+                  "-strict"], expect_code=expect, tag=tag)
+    if "were not used" in log or "Option left" in log:
+        fail("unused options reported:\n" + log[-2000:])
+
+
+CASES = {
+    "scramble": case_scramble,
+    "inside_out_mollifier": lambda: case_inside_out("mollifier"),
+    "inside_out_barrier": lambda: case_inside_out("barrier"),
+    "cylinder_reaction": case_cylinder_reaction,
+    "ortho_cube": case_ortho_cube,
+    "ranks_agree": case_ranks_agree,
+    "safeguard_basic": lambda: case_safeguard("basic"),
+    "safeguard_l2": lambda: case_safeguard("l2"),
+    "kim_aa_fails": case_kim_aa_fails,
+}
+
+
+def main():
+    global ARGS
+    ap = argparse.ArgumentParser()
+    ap.add_argument("case")
+    ap.add_argument("--aries", required=True)
+    ap.add_argument("--root", required=True)
+    ap.add_argument("--work", required=True)
+    ap.add_argument("--ranks", type=int, default=1)
+    ARGS = ap.parse_args()
+    os.makedirs(os.path.join(ARGS.work, "out"), exist_ok=True)
+    if ARGS.case.startswith("options:"):
+        case_options_file(ARGS.case.split(":", 1)[1])
+    elif ARGS.case in CASES:
+        CASES[ARGS.case]()
+    else:
+        fail("unknown case " + ARGS.case)
+    print("PASS")
+
+
+if __name__ == "__main__":
+    main()
