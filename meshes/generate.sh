@@ -5,7 +5,7 @@
 #                                    if it is missing or was built by other generator sources.
 #                                    SIZE: test | default (the default) | paper
 #   meshes/generate.sh all [SIZE]    build every mesh of that size; prints one path per line
-#   meshes/generate.sh list          names, sizes, parameters, expected tet counts
+#   meshes/generate.sh list          names, sizes, kinds (tet/tri), parameters, expected cell counts
 #
 # stdout carries only the path(s); the build log goes to stderr. Sizes are fixed presets (anything
 # else is refused), and each build is bounded: 8 GiB of address space and 15 minutes.
@@ -25,7 +25,7 @@ TIME_LIMIT=900
 
 die() { echo "generate.sh: $*" >&2; exit 2; }
 
-usage() { sed -n '2,16p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+usage() { sed -n '2,15p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
 
 [ -x "$PY" ] || die "$PY not found (apt-get install python3-numpy)"
 command -v gmsh >/dev/null || die "gmsh not found (apt-get install gmsh)"
@@ -87,7 +87,7 @@ case "${1:-}" in
   list) exec "$PY" "$BUILD" list ;;
   all)
     [ $# -le 2 ] || usage
-    for n in cylinder cube armadillo bunny octopus; do generate "$n" "${2:-default}"; done ;;
+    for n in $("$PY" "$BUILD" names); do generate "$n" "${2:-default}"; done ;;
   *)
     [ $# -le 2 ] || usage
     generate "$1" "${2:-default}" ;;

@@ -1,14 +1,17 @@
 #!/usr/bin/python3
 """Builds the aries meshes. Called by meshes/generate.sh (which owns the cache); usable directly:
 
-    build.py list                      catalog: names, sizes, parameters, expected tet counts
+    build.py list                      catalog: names, sizes, kinds, parameters, expected cell counts
+    build.py names                     the mesh names, one per line
     build.py resolve NAME SIZE         canonical size name (aliases such as cube/paper -> default)
     build.py build NAME SIZE OUTDIR    writes OUTDIR/NAME_SIZE.msh (+ NAME_SIZE.fibers for the octopus)
                                        and OUTDIR/NAME_SIZE.json (statistics); log on stderr
 
-All coordinates are z-up. Every tet is positively oriented and carries a physical volume. Outputs are
-deterministic: gmsh runs single-threaded in a fixed sandbox with ASLR off (see GMSH_SANDBOX), and
-all post-processing is plain numpy in a fixed order.
+Two kinds of mesh: tetrahedral volume meshes (cylinder, cube, armadillo, bunny, octopus; z-up, every
+tet positively oriented and in a physical volume) and triangle surface meshes in 3D (cloth, disk,
+lionhead, nefertiti; every triangle in a physical surface, consistently oriented, boundary edges as
+physical curves). Outputs are deterministic: gmsh runs single-threaded in a fixed sandbox with ASLR
+off (see GMSH_SANDBOX), and all post-processing is plain numpy in a fixed order.
 """
 
 import fcntl
@@ -40,9 +43,9 @@ CGAL_DATA = [
 ]
 
 # --------------------------------------------------------------------------------------------------
-# Catalog. 'tets' is the count this generator produces with Debian 12's gmsh 4.8.4 (it is
-# deterministic); a different count only warns (another gmsh version meshes differently).
-# 'alias' maps a size name to another entry of the same mesh.
+# Catalog. 'tets' (volume meshes) / 'triangles' (surface meshes) is the count this generator
+# produces with Debian 12's gmsh 4.8.4 (it is deterministic); a different count only warns (another
+# gmsh version meshes differently). 'alias' maps a size name to another entry of the same mesh.
 
 CATALOG = {
     "cylinder": {
@@ -70,15 +73,45 @@ CATALOG = {
         "default": {"hmax": 0.106, "ncurv": 27, "tets": 314819},
         "paper": {"alias": "default"},
     },
+    # triangle surface meshes
+    "cloth": {
+        "test": {"n": 16, "triangles": 2 * 16 ** 2},
+        "default": {"n": 128, "triangles": 2 * 128 ** 2},
+        "paper": {"alias": "default"},
+    },
+    "disk": {
+        "test": {"rings": 10, "triangles": 6 * 10 ** 2},
+        "default": {"rings": 15, "triangles": 6 * 15 ** 2},
+        "paper": {"alias": "default"},
+    },
+    "lionhead": {
+        "test": {"h": 0.05, "triangles": 1962},
+        "default": {"triangles": 16674},  # the source mesh as is
+        "paper": {"alias": "default"},
+    },
+    "nefertiti": {
+        "test": {"alias": "default"},  # the source mesh is already small
+        "default": {"triangles": 562},
+        "paper": {"alias": "default"},
+    },
 }
 
-PAPER = {  # Table 1 of the paper, for the listing
+PAPER = {  # the paper's meshes (Table 1: tets, Table 2: cloth triangles), for the listing
     "cylinder": "17,840",
     "cube": "34,992 (pull) / 54,985 (compress)",
     "armadillo": "34,992",
     "bunny": "637,584",
     "octopus": "308,200",
+    "cloth": "32,768",
+    "disk": "(not in the paper)",
+    "lionhead": "Fig. 14 (count not given)",
+    "nefertiti": "Fig. 14 (count not given)",
 }
+
+
+def kind(name):
+    """'tet' or 'tri' (the catalog entry's count key)."""
+    return "tri" if any("triangles" in p for p in CATALOG[name].values()) else "tet"
 
 
 def log(*a):
@@ -142,6 +175,13 @@ def _fixed_limits():
 def gmsh_volume(geo_text, setnumbers, surface=None):
     """gmsh -3 on a .geo script (after merging the triangle surface (V, F), if given); returns the
     (X, T) of its tets. Runs in the fixed sandbox (see above)."""
+    return gmsh_mesh(3, geo_text, setnumbers, surface)
+
+
+def gmsh_mesh(dim, geo_text, setnumbers, surface=None):
+    """gmsh -DIM on a .geo script (after merging the triangle surface (V, F), if given); returns the
+    nodes and the tets (dim 3) or triangles (dim 2) of the result. Runs in the fixed sandbox."""
+    reader = {3: mk.read_msh22_tets, 2: mk.read_msh22_tris}[dim]
     with open(GMSH_SANDBOX + ".lock", "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)
         shutil.rmtree(GMSH_SANDBOX, ignore_errors=True)
@@ -149,7 +189,7 @@ def gmsh_volume(geo_text, setnumbers, surface=None):
         try:
             with open(os.path.join(GMSH_SANDBOX, "model.geo"), "w") as f:
                 f.write(geo_text)
-            cmd = [GMSH, "-3", "-nt", "1", "-format", "msh22", "-o", "out.msh"]
+            cmd = [GMSH, "-%d" % dim, "-nt", "1", "-format", "msh22", "-o", "out.msh"]
             if _setarch_works():
                 cmd = [SETARCH, "-R"] + cmd
             else:
@@ -162,7 +202,7 @@ def gmsh_volume(geo_text, setnumbers, surface=None):
                 cmd.append("surface.msh")
             cmd.append("model.geo")
             run(cmd, GMSH_SANDBOX, env=GMSH_ENV, preexec_fn=_fixed_limits)
-            return mk.read_msh22_tets(os.path.join(GMSH_SANDBOX, "out.msh"))
+            return reader(os.path.join(GMSH_SANDBOX, "out.msh"))
         finally:
             shutil.rmtree(GMSH_SANDBOX, ignore_errors=True)
 
@@ -176,6 +216,8 @@ def read_geo(name):
 SOURCE_SHA256 = {
     "data/meshes/armadillo.off": "6f7f3ca1abc506569466b72f2f59d49493a284e7376d7a7e23c08115ec8cec4e",
     "data/meshes/bunny00.off": "ab651cb04955c161efaeb079035a1e5e1f0e0d1f816a2df67beaea68f393ff2b",
+    "data/meshes/lion-head.off": "cf159eeb12a3f3f345e57448693e9f0d115f3f6f38fd1d4519b336cede849289",
+    "data/meshes/nefertiti.off": "d8b13239b988d0262fbc91e88da1d314eeb1b284c327a3fe76089c2b54886ccf",
 }
 
 
@@ -352,8 +394,149 @@ def build_octopus(p):
                       "parameters": octo.PARAMS}
 
 
+# --------------------------------------------------------------------------------------------------
+# Triangle surface meshes: params -> (TriMesh, extra files, provenance)
+
+
+def build_cloth(p):
+    """Unit square [0,1]^2 in the plane z = 0, n x n grid squares, each split along its (+1,+1)
+    diagonal into 2 triangles (the same diagonal everywhere): 2 n^2 triangles, normals +z.
+    Node (i, j) = (i/n, j/n, 0) is node i + (n+1) j (x fastest). Square (i, j) with corners
+    a = (i,j), b = (i+1,j), c = (i+1,j+1), d = (i,j+1) gives triangles (a, b, c) then (a, c, d);
+    squares in row-major order (i fastest, then j)."""
+    n = p["n"]
+    g = np.linspace(0.0, 1.0, n + 1)
+    yy, xx = np.meshgrid(g, g, indexing="ij")
+    X = np.c_[xx.ravel(), yy.ravel(), np.zeros(xx.size)]
+    N = n + 1
+    j, i = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
+    a = (i + N * j).ravel()
+    b, c, d = a + 1, a + 1 + N, a + N
+    T = np.stack([np.c_[a, b, c], np.c_[a, c, d]], 1).reshape(-1, 3)
+    m = mk.TriMesh(X, T, name="cloth")
+    if m.orient_consistently() or m.orient_up((0.0, 0.0, 1.0)):
+        raise SystemExit("cloth: triangles not generated +z oriented (bug)")
+    (loop,) = m.boundary_loops()  # counter-clockwise from node 0 = (0,0): bottom, right, top, left
+    P = m.X[loop]  # (k, 2 endpoints, 3)
+    for tag, name, axis, val in ((1, "left", 0, 0.0), (2, "right", 0, 1.0),
+                                 (3, "bottom", 1, 0.0), (4, "top", 1, 1.0)):
+        m.add_edge_set(tag, name, loop[(np.abs(P[:, :, axis] - val) < 1e-12).all(1)])
+    corner = lambda x, y: int(np.argmin(np.abs(m.X[:, 0] - x) + np.abs(m.X[:, 1] - y)))
+    m.add_vertex_set(11, "corner_00", [corner(0, 0)])
+    m.add_vertex_set(12, "corner_10", [corner(1, 0)])
+    m.add_vertex_set(13, "corner_01", [corner(0, 1)])
+    m.add_vertex_set(14, "corner_11", [corner(1, 1)])
+    m.add_vertex_set(15, "top_corners", [corner(0, 1), corner(1, 1)])
+    return m, {}, {"source": "structured grid (meshes/tools/build.py)", "n": n,
+                   "diagonal": "every grid square split along its (0,0)-(1,1) diagonal (direction [1,1])"}
+
+
+DISK_AMPLITUDE = 0.15
+
+
+def build_disk(p):
+    """Wavy disk: the graph z = 0.15 sin(3x) cos(2y) over the unit disk x^2 + y^2 <= 1.
+    Concentric rings: node 0 is the centre, ring k = 1..R has 6k nodes at radius k/R and angles
+    2 pi j / (6k), j = 0..6k-1 (counter-clockwise, j = 0 on +x). The strip between rings k-1 and k
+    has 6(2k-1) triangles (per sextant s: for t = 0..k-1 the triangle (o_t, o_t+1, i_t) and for
+    t < k-1 (i_t, o_t+1, i_t+1), o/i = outer/inner ring nodes of the sextant), so 6 R^2 triangles,
+    all with upward (+z component) normals. Every triangle near-equilateral in the xy projection."""
+    R = p["rings"]
+    start = [0, 1]
+    for k in range(1, R + 1):
+        start.append(start[-1] + 6 * k)
+    xy = [np.zeros((1, 2))]
+    for k in range(1, R + 1):
+        t = 2.0 * np.pi * np.arange(6 * k) / (6 * k)
+        xy.append((k / R) * np.c_[np.cos(t), np.sin(t)])
+    xy = np.concatenate(xy)
+    X = np.c_[xy, DISK_AMPLITUDE * np.sin(3.0 * xy[:, 0]) * np.cos(2.0 * xy[:, 1])]
+    T = []
+    for k in range(1, R + 1):
+        for s in range(6):
+            o = lambda t: start[k] + (s * k + t) % (6 * k)
+            inner = (lambda t: 0) if k == 1 else (lambda t: start[k - 1] + (s * (k - 1) + t) % (6 * (k - 1)))
+            for t in range(k):
+                T.append((o(t), o(t + 1), inner(t)))
+                if t < k - 1:
+                    T.append((inner(t), o(t + 1), inner(t + 1)))
+    m = mk.TriMesh(X, np.array(T, dtype=np.int64))
+    if m.orient_consistently() or m.orient_up((0.0, 0.0, 1.0)):
+        raise SystemExit("disk: triangles not generated consistently upward (bug)")
+    if (m.area_vectors()[:, 2] <= 0).any():
+        raise SystemExit("disk: a triangle normal points down (bug)")
+    m.check_disk("disk")
+    (loop,) = m.boundary_loops()
+    m.add_edge_set(1, "boundary", loop)
+    return m, {}, {"source": "concentric-ring triangulation of the unit disk (meshes/tools/build.py)",
+                   "surface": "z = %g sin(3x) cos(2y) over x^2 + y^2 <= 1" % DISK_AMPLITUDE,
+                   "rings": R}
+
+
+def cgal_disk(member):
+    """A CGAL open surface, checked to be a manifold disk: cleaned (unreferenced vertices, repeated
+    or degenerate triangles dropped), consistently oriented with normals pointing out of the shape
+    closed up at its boundary, then centred (bounding-box centre to the origin) and scaled uniformly
+    to a largest bounding-box extent of 1. Axes are kept (the faces look along +z, y is up)."""
+    V, F, tar = cgal_surface(member)
+    m = mk.TriMesh(V, F)
+    degen, dup = m.drop_bad_triangles()
+    unused = m.drop_unused_nodes()
+    before = m.topology()
+    flipped = m.orient_consistently()
+    outward_flip = m.orient_outward()
+    t = m.check_disk(member)
+    lo, hi = m.X.min(0), m.X.max(0)
+    centre = 0.5 * (lo + hi)
+    scale = 1.0 / float((hi - lo).max())
+    m.X = (m.X - centre) * scale
+    fixes = {"degenerate_triangles_dropped": degen, "duplicate_triangles_dropped": dup,
+             "unreferenced_vertices_dropped": unused, "triangles_flipped_for_consistency": flipped,
+             "flipped_all_for_outward_normals": outward_flip}
+    log("source %s:%s  %d vertices, %d triangles, %d edges, Euler characteristic %d, %d boundary "
+        "loop(s) of %s edges, manifold, %s; fixes %s"
+        % (tar, member, t["vertices"], t["triangles"], t["edges"], t["euler_characteristic"],
+           t["boundary_loops"], t["boundary_loop_lengths"],
+           "consistently oriented" if before["consistently_oriented"] else "NOT consistently oriented",
+           fixes))
+    source = {"file": tar + ":" + member, "vertices": t["vertices"], "triangles": t["triangles"],
+              "edges": t["edges"], "euler_characteristic": t["euler_characteristic"],
+              "boundary_loop_lengths": t["boundary_loop_lengths"], "fixes": fixes}
+    transform = {"x_new": "(x - centre) * scale", "centre": [float(c) for c in centre],
+                 "scale": scale, "rotation": "none (source axes kept)"}
+    return m, source, transform
+
+
+def build_cgal_disk(member, p):
+    m, source, transform = cgal_disk(member)
+    prov = {"source": source, "transform": transform}
+    if "h" in p:
+        # coarser version: gmsh remesh of the (transformed) surface at uniform size h
+        X, T = gmsh_mesh(2, read_geo("remesh_surface.geo"), {"h": p["h"]}, surface=(m.X, m.T))
+        m = mk.TriMesh(X, T)
+        m.drop_unused_nodes()
+        m.orient_consistently()
+        m.orient_outward()
+        m.check_disk("%s remeshed with h = %g" % (member, p["h"]))
+        prov["remesh"] = {"h": p["h"], "script": "meshes/geo/remesh_surface.geo"}
+    else:
+        prov["remesh"] = "none: the source triangles as they are"
+    (loop,) = m.boundary_loops()
+    m.add_edge_set(1, "boundary", loop)
+    return m, {}, prov
+
+
+def build_lionhead(p):
+    return build_cgal_disk("data/meshes/lion-head.off", p)
+
+
+def build_nefertiti(p):
+    return build_cgal_disk("data/meshes/nefertiti.off", p)
+
+
 BUILDERS = {"cylinder": build_cylinder, "cube": build_cube, "armadillo": build_armadillo,
-            "bunny": build_bunny, "octopus": build_octopus}
+            "bunny": build_bunny, "octopus": build_octopus, "cloth": build_cloth, "disk": build_disk,
+            "lionhead": build_lionhead, "nefertiti": build_nefertiti}
 
 
 def build(name, size, outdir):
@@ -363,41 +546,47 @@ def build(name, size, outdir):
     t0 = time.time()
     m, extra, prov = BUILDERS[name](params)
     s = m.stats()
+    cells = "tets" if kind(name) == "tet" else "triangles"
     if s["flipped_on_input"]:
-        log("note: %d tets were negatively oriented as generated and got two nodes swapped"
-            % s["flipped_on_input"])
+        log("note: %d %s were %s as generated and got two nodes swapped"
+            % (s["flipped_on_input"], cells,
+               "negatively oriented" if cells == "tets" else "oriented against the others or outward/up"))
     for suffix, writer in extra.items():
         writer(stem + suffix)
     m.write_msh22(stem + ".msh")
     s["provenance"] = prov
-    expected = params.get("tets")
-    if expected is not None and expected != s["tets"]:
-        log("warning: %s/%s has %d tets, the catalog expects %d (different gmsh version?)"
-            % (name, size, s["tets"], expected))
+    expected = params.get(cells)
+    if expected is not None and expected != s[cells]:
+        log("warning: %s/%s has %d %s, the catalog expects %d (different gmsh version?)"
+            % (name, size, s[cells], cells, expected))
     with open(stem + ".json", "w") as f:
         json.dump(s, f, indent=1, sort_keys=True)
         f.write("\n")
     log(json.dumps({k: v for k, v in s.items() if k != "provenance"}, sort_keys=True))
-    log("%s/%s: %d tets, %d vertices in %.1f s" % (name, size, s["tets"], s["vertices"], time.time() - t0))
+    log("%s/%s: %d %s, %d vertices in %.1f s" % (name, size, s[cells], cells, s["vertices"], time.time() - t0))
     return s
 
 
 def listing():
-    print("%-10s %-8s %-8s %-22s %s" % ("name", "size", "tets", "parameters", "paper (Table 1)"))
+    print("%-10s %-8s %-5s %-8s %-22s %s" % ("name", "size", "kind", "cells", "parameters",
+                                                  "paper (Table 1 tets, Table 2 triangles)"))
     for name, sizes in CATALOG.items():
         paper_size = resolve(name, "paper")
+        cells = "tets" if kind(name) == "tet" else "triangles"
         for size, p in sizes.items():
             if "alias" in p:
-                print("%-10s %-8s %-8s %-22s" % (name, size, "", "= " + p["alias"]))
+                print("%-10s %-8s %-5s %-8s %-22s" % (name, size, kind(name), "", "= " + p["alias"]))
                 continue
-            par = " ".join("%s=%g" % (k, v) for k, v in p.items() if k != "tets")
-            print("%-10s %-8s %-8d %-22s %s" % (name, size, p["tets"], par,
-                                              PAPER[name] if size == paper_size else ""))
+            par = " ".join("%s=%g" % (k, v) for k, v in p.items() if k != cells) or "source mesh"
+            print("%-10s %-8s %-5s %-8d %-22s %s" % (name, size, kind(name), p[cells], par,
+                                                    PAPER[name] if size == paper_size else ""))
 
 
 def main(argv):
     if len(argv) >= 1 and argv[0] == "list":
         listing()
+    elif len(argv) == 1 and argv[0] == "names":
+        print("\n".join(CATALOG))
     elif len(argv) == 3 and argv[0] == "resolve":
         print(resolve(argv[1], argv[2]))
     elif len(argv) == 4 and argv[0] == "build":
