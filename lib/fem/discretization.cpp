@@ -3,6 +3,8 @@
 #include "energies/energy.hpp"
 #include "fem/cell_files.hpp"
 #include "fem/options.hpp"
+#include "kernels/obstacle_barrier.hpp"
+#include "kernels/quadratic_bending.hpp"
 #include "fem/errors.hpp"
 
 #include <petscsf.h>
@@ -119,6 +121,7 @@ class DiscretizationT final : public Discretization {
   PetscErrorCode gatherTopology(std::vector<PetscInt> *cells) const override;
   PetscErrorCode cellFibers(std::vector<double> *fibers) const override;
   int shapeCols() const override { return C; }
+  bool couplesBeyondCells() const override { return !hinges_.empty(); }
   void forEachOwnedFreeVertex(
       const std::function<void(PetscInt, PetscInt, const Eigen::Vector3d &)> &fn) const override;
   PetscErrorCode maxDisplacement(Vec xLocal, PetscReal *value) const override;
@@ -130,6 +133,11 @@ class DiscretizationT final : public Discretization {
     EMat<NV, C> W;                     // F = sum_v x_v W.row(v)   (W = [-1^T Dm^-1; Dm^-1])
     double measure;                   // rest volume / area
     int region;                       // material index
+    bool owned;                       // false for overlap cells (surface meshes), skipped by all sums
+  };
+  struct Hinge {                      // bending hinge: edge (v0, v1), opposite vertices v2, v3 (local indices)
+    std::array<PetscInt, 4> vertex;
+    kernels::BendingHinge rest;
   };
   struct VertexInfo {
     PetscInt loc;     // offset of the first dof in the local vector
@@ -152,6 +160,11 @@ class DiscretizationT final : public Discretization {
     return fallback_.empty() || !fallback_[c] ? materials_[cells_[c].region] : mollified_[cells_[c].region];
   }
   PetscErrorCode vertexTermsObjective(const PetscScalar *x, double *E) const;
+  double cellEnergySum(const PetscScalar *x) const;                      // owned cells, this rank
+  double surfaceTermsEnergy(const PetscScalar *x) const;                 // bending + contact, this rank
+  void addSurfaceTermsGradient(const PetscScalar *x, PetscScalar *g) const;
+  PetscErrorCode addSurfaceTermsHessian(const PetscScalar *x, Mat J) const;
+  PetscErrorCode setupSurfaceTerms(Mesh &mesh);
 
   std::vector<Cell> cells_;
   std::vector<VertexInfo> verts_;
@@ -159,6 +172,10 @@ class DiscretizationT final : public Discretization {
   std::vector<std::array<double, 3>> restFibers_;  // per cell, for output (material frame)
   std::vector<double> mass_;                       // per local vertex
   std::vector<double> xTilde_;                     // per local dof (dynamics)
+  std::vector<Hinge> hinges_;                      // owned interior edges (cloth bending)
+  double bending_ = 0.0;                           // -bending stiffness
+  std::vector<kernels::Obstacle> obstacles_;       // -obstacle_plane / -obstacle_sphere
+  double contactDhat_ = 0.0, contactKappa_ = 0.0;  // -contact_dhat, -contact_stiffness
   std::vector<char> fallback_;                     // per cell: barrier -> mollifier (singular elements)
   std::vector<energies::Material> mollified_;      // materials_ with the barrier replaced by the mollifier
   bool blockedAssembly_ = true;
@@ -363,6 +380,7 @@ PetscErrorCode DiscretizationT<R, C>::setup(Mesh &mesh) {
     const EMat<C, C> B = std::abs(det) > 0.0 ? EMat<C, C>(Dm.inverse()) : EMat<C, C>::Zero();
     cell.W.row(0) = -B.colwise().sum();
     cell.W.template bottomRows<C>() = B;
+    cell.owned = mesh.cellOwned[c - mesh.cStart];
     cell.region = 0;
     for (size_t r = 0; r < regionLabels.size(); ++r) {
       PetscInt val;
@@ -400,7 +418,8 @@ PetscErrorCode DiscretizationT<R, C>::setup(Mesh &mesh) {
     PetscCall(fem::collectiveCheck(comm, !msg.empty(), msg));
   }
   double localMeasure = 0.0;
-  for (const auto &cell : cells_) localMeasure += cell.measure;
+  for (const auto &cell : cells_)
+    if (cell.owned) localMeasure += cell.measure;
   PetscCallMPI(MPI_Allreduce(&localMeasure, &restMeasure_, 1, MPI_DOUBLE, MPI_SUM, comm));
 
   // --- anisotropy data: uniform from options, per cell from files ---------------------------------------------------
@@ -440,7 +459,8 @@ PetscErrorCode DiscretizationT<R, C>::setup(Mesh &mesh) {
   // --- lumped mass ---------------------------------------------------------------------------------------------------
   mass_.assign(nv, 0.0);
   for (const auto &cell : cells_)
-    for (int v = 0; v < NV; ++v) mass_[cell.vertex[v]] += dyn_.density * cell.measure / NV;
+    if (cell.owned)
+      for (int v = 0; v < NV; ++v) mass_[cell.vertex[v]] += dyn_.density * cell.measure / NV;
   {
     // Sum the contributions of all ranks on shared vertices.
     std::vector<double> leaf(pEnd - pStart, 0.0), root(pEnd - pStart, 0.0);
@@ -455,6 +475,186 @@ PetscErrorCode DiscretizationT<R, C>::setup(Mesh &mesh) {
   PetscInt localSize;
   PetscCall(PetscSectionGetStorageSize(localSection, &localSize));
   xTilde_.assign(localSize, 0.0);
+  PetscCall(setupSurfaceTerms(mesh));
+  PetscFunctionReturn(0);
+}
+
+
+// Cloth bending hinges (-bending, surfaces in 3D) and contact with analytic obstacles (-obstacle_plane,
+// -obstacle_sphere; 3D meshes). Options are read only where they apply.
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::setupSurfaceTerms(Mesh &mesh) {
+  MPI_Comm comm;
+  PetscBool set = PETSC_FALSE;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetComm((PetscObject)mesh.dm, &comm));
+  if constexpr (R == 3 && C == 2) {
+    PetscCall(optionReal(nullptr, "-bending", &bending_, &set));
+    if (!(bending_ >= 0.0))
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -bending must be >= 0 (got %g)", bending_);
+    if (bending_ > 0.0) {
+      DM dm = mesh.dm;
+      PetscInt eStart, eEnd, nleaves;
+      const PetscInt *ilocal;
+      PetscSF sf;
+      PetscCall(DMPlexGetDepthStratum(dm, 1, &eStart, &eEnd));
+      PetscCall(DMGetPointSF(dm, &sf));
+      PetscCall(PetscSFGetGraph(sf, nullptr, &nleaves, &ilocal, nullptr));
+      std::vector<char> leaf(eEnd - eStart, 0);
+      for (PetscInt i = 0; i < nleaves; ++i) {
+        const PetscInt q = ilocal ? ilocal[i] : i;
+        if (q >= eStart && q < eEnd) leaf[q - eStart] = 1;
+      }
+      for (PetscInt e = eStart; e < eEnd; ++e) {
+        if (leaf[e - eStart]) continue;
+        PetscInt nsupp;
+        const PetscInt *supp, *cone;
+        PetscCall(DMPlexGetSupportSize(dm, e, &nsupp));
+        if (nsupp != 2) continue;  // boundary edge
+        PetscCall(DMPlexGetSupport(dm, e, &supp));
+        PetscCall(DMPlexGetCone(dm, e, &cone));
+        Hinge h;
+        h.vertex[0] = cone[0] - mesh.vStart;
+        h.vertex[1] = cone[1] - mesh.vStart;
+        for (int k = 0; k < 2; ++k) {
+          const Cell &cell = cells_[supp[k] - mesh.cStart];
+          for (int v = 0; v < NV; ++v)
+            if (cell.vertex[v] != h.vertex[0] && cell.vertex[v] != h.vertex[1]) h.vertex[2 + k] = cell.vertex[v];
+        }
+        h.rest = kernels::bendingHinge(verts_[h.vertex[0]].rest, verts_[h.vertex[1]].rest, verts_[h.vertex[2]].rest,
+                                       verts_[h.vertex[3]].rest);
+        hinges_.push_back(h);
+      }
+    }
+  }
+  if constexpr (R == 3) {
+    std::vector<PetscReal> planes, spheres;
+    PetscBool hasP = PETSC_FALSE, hasS = PETSC_FALSE;
+    PetscCall(optionRealList(nullptr, "-obstacle_plane", &planes, &hasP));
+    PetscCall(optionRealList(nullptr, "-obstacle_sphere", &spheres, &hasS));
+    if (hasP && (planes.empty() || planes.size() % 6))
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+              "option -obstacle_plane takes px,py,pz,nx,ny,nz (a point and the normal towards the free side; 6 "
+              "numbers per plane), got %d numbers", (int)planes.size());
+    if (hasS && (spheres.empty() || spheres.size() % 4))
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+              "option -obstacle_sphere takes cx,cy,cz,r (4 numbers per sphere), got %d numbers", (int)spheres.size());
+    for (size_t k = 0; k < planes.size(); k += 6) {
+      kernels::Obstacle o;
+      o.kind = kernels::Obstacle::Kind::Plane;
+      o.point = Eigen::Vector3d(planes[k], planes[k + 1], planes[k + 2]);
+      o.normal = Eigen::Vector3d(planes[k + 3], planes[k + 4], planes[k + 5]);
+      if (!(o.normal.norm() > 0.0))
+        SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -obstacle_plane: plane %d has a zero normal", (int)(k / 6) + 1);
+      o.normal.normalize();
+      obstacles_.push_back(o);
+    }
+    for (size_t k = 0; k < spheres.size(); k += 4) {
+      kernels::Obstacle o;
+      o.kind = kernels::Obstacle::Kind::Sphere;
+      o.point = Eigen::Vector3d(spheres[k], spheres[k + 1], spheres[k + 2]);
+      o.radius = spheres[k + 3];
+      if (!(o.radius > 0.0))
+        SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -obstacle_sphere: sphere %d needs a radius > 0", (int)(k / 4) + 1);
+      obstacles_.push_back(o);
+    }
+    if (!obstacles_.empty()) {
+      contactDhat_ = 1e-2 * mesh.diagonal;
+      PetscCall(optionReal(nullptr, "-contact_dhat", &contactDhat_, &set));
+      if (!(contactDhat_ > 0.0))
+        SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -contact_dhat must be > 0 (got %g)", contactDhat_);
+      contactKappa_ = characteristicModulus() * restMeasure_ / static_cast<double>(mesh.numVerticesGlobal);
+      PetscCall(optionReal(nullptr, "-contact_stiffness", &contactKappa_, &set));
+      if (!(contactKappa_ > 0.0))
+        SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -contact_stiffness must be > 0 (got %g)", contactKappa_);
+      // The rest shape must be outside every obstacle.
+      std::string msg;
+      for (size_t v = 0; v < verts_.size() && msg.empty(); ++v)
+        for (size_t o = 0; o < obstacles_.size() && msg.empty(); ++o) {
+          const double d = kernels::obstacleDistance(obstacles_[o], verts_[v].rest, nullptr);
+          if (!(d > 0.0)) {
+            std::ostringstream m;
+            m << "vertex " << mesh.naturalVertex[v] << " of '" << mesh.filename << "' is inside obstacle " << o + 1
+              << " at rest (distance " << d << "); move the obstacle (-obstacle_plane / -obstacle_sphere)";
+            msg = m.str();
+          }
+        }
+      PetscCall(fem::collectiveCheck(comm, !msg.empty(), msg));
+    }
+  }
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+double DiscretizationT<R, C>::surfaceTermsEnergy(const PetscScalar *x) const {
+  double e = 0.0;
+  if constexpr (R == 3) {
+    for (const Hinge &h : hinges_) {
+      Eigen::Vector3d xs[4];
+      for (int i = 0; i < 4; ++i) xs[i] = Eigen::Map<const Eigen::Vector3d>(x + verts_[h.vertex[i]].loc);
+      e += kernels::quadraticBending(h.rest, xs, bending_, kernels::Order::Value).value;
+    }
+    if (!obstacles_.empty())
+      for (const auto &vi : verts_) {
+        if (!vi.owned || vi.bcSet >= 0) continue;
+        const Eigen::Vector3d xv = Eigen::Map<const Eigen::Vector3d>(x + vi.loc);
+        for (const auto &o : obstacles_)
+          e += kernels::obstacleBarrier(o, xv, contactDhat_, contactKappa_, kernels::Order::Value).value;
+      }
+  }
+  return e;
+}
+
+template <int R, int C>
+void DiscretizationT<R, C>::addSurfaceTermsGradient(const PetscScalar *x, PetscScalar *g) const {
+  if constexpr (R == 3) {
+    for (const Hinge &h : hinges_) {
+      Eigen::Vector3d xs[4];
+      for (int i = 0; i < 4; ++i) xs[i] = Eigen::Map<const Eigen::Vector3d>(x + verts_[h.vertex[i]].loc);
+      const auto d = kernels::quadraticBending(h.rest, xs, bending_, kernels::Order::Gradient);
+      for (int i = 0; i < 4; ++i)
+        for (int k = 0; k < 3; ++k) g[verts_[h.vertex[i]].loc + k] += d.grad[3 * i + k];
+    }
+    if (!obstacles_.empty())
+      for (const auto &vi : verts_) {
+        if (!vi.owned || vi.bcSet >= 0) continue;
+        const Eigen::Vector3d xv = Eigen::Map<const Eigen::Vector3d>(x + vi.loc);
+        for (const auto &o : obstacles_) {
+          const auto d = kernels::obstacleBarrier(o, xv, contactDhat_, contactKappa_, kernels::Order::Gradient);
+          for (int k = 0; k < 3; ++k) g[vi.loc + k] += d.grad[k];
+        }
+      }
+  }
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::addSurfaceTermsHessian(const PetscScalar *x, Mat J) const {
+  PetscFunctionBeginUser;
+  if constexpr (R == 3) {
+    for (const Hinge &h : hinges_) {
+      Eigen::Vector3d xs[4];
+      for (int i = 0; i < 4; ++i) xs[i] = Eigen::Map<const Eigen::Vector3d>(x + verts_[h.vertex[i]].loc);
+      const auto d = kernels::quadraticBending(h.rest, xs, bending_, kernels::Order::Hessian);
+      const Eigen::Matrix<double, 12, 12, Eigen::RowMajor> K = d.hess;
+      PetscInt rows[12];
+      for (int i = 0; i < 4; ++i) {
+        const auto &vi = verts_[h.vertex[i]];
+        for (int k = 0; k < 3; ++k) rows[3 * i + k] = vi.bcSet >= 0 ? -1 : vi.global + k;
+      }
+      PetscCall(MatSetValues(J, 12, rows, 12, rows, K.data(), ADD_VALUES));
+    }
+    if (!obstacles_.empty())
+      for (const auto &vi : verts_) {
+        if (!vi.owned || vi.bcSet >= 0) continue;
+        const Eigen::Vector3d xv = Eigen::Map<const Eigen::Vector3d>(x + vi.loc);
+        Eigen::Matrix<double, 3, 3, Eigen::RowMajor> H = Eigen::Matrix3d::Zero();
+        for (const auto &o : obstacles_)
+          H += kernels::obstacleBarrier(o, xv, contactDhat_, contactKappa_, kernels::Order::Hessian).hess;
+        if (H.isZero(0.0)) continue;
+        const PetscInt rows[3] = {vi.global, vi.global + 1, vi.global + 2};
+        PetscCall(MatSetValues(J, 3, rows, 3, rows, H.data(), ADD_VALUES));
+      }
+  }
   PetscFunctionReturn(0);
 }
 
@@ -549,19 +749,26 @@ PetscErrorCode DiscretizationT<R, C>::vertexTermsObjective(const PetscScalar *x,
 }
 
 template <int R, int C>
+double DiscretizationT<R, C>::cellEnergySum(const PetscScalar *x) const {
+  double e = 0.0;
+  for (size_t c = 0; c < cells_.size(); ++c) {
+    const Cell &cell = cells_[c];
+    if (!cell.owned) continue;
+    e += cell.measure * energies::evaluateEnergy<R, C>(materialOf(c), dataOf(c), deformationGradient(cell, x),
+                                                       kernels::Order::Value)
+                            .value;
+  }
+  return e;
+}
+
+template <int R, int C>
 PetscErrorCode DiscretizationT<R, C>::elasticEnergy(Vec xLocal, PetscReal *value) const {
   const PetscScalar *x;
   MPI_Comm comm;
   PetscFunctionBeginUser;
   PetscCall(PetscObjectGetComm((PetscObject)mesh_->dm, &comm));
   PetscCall(VecGetArrayRead(xLocal, &x));
-  double e = 0.0;
-  for (size_t c = 0; c < cells_.size(); ++c) {
-    const Cell &cell = cells_[c];
-    const auto d = energies::evaluateEnergy<R, C>(materialOf(c), dataOf(c), deformationGradient(cell, x),
-                                                  kernels::Order::Value);
-    e += cell.measure * d.value;
-  }
+  const double e = cellEnergySum(x);
   PetscCall(VecRestoreArrayRead(xLocal, &x));
   PetscCallMPI(MPI_Allreduce(&e, value, 1, MPI_DOUBLE, MPI_SUM, comm));
   PetscFunctionReturn(0);
@@ -574,17 +781,10 @@ PetscErrorCode DiscretizationT<R, C>::objective(Vec xLocal, PetscReal *value) co
   PetscFunctionBeginUser;
   PetscCall(PetscObjectGetComm((PetscObject)mesh_->dm, &comm));
   PetscCall(VecGetArrayRead(xLocal, &x));
-  double e = 0.0;
-  for (size_t c = 0; c < cells_.size(); ++c) {
-    const Cell &cell = cells_[c];
-    const auto d = energies::evaluateEnergy<R, C>(materialOf(c), dataOf(c), deformationGradient(cell, x),
-                                                  kernels::Order::Value);
-    e += cell.measure * d.value;
-  }
   double ev = 0.0;
   PetscCall(vertexTermsObjective(x, &ev));
+  double e = cellEnergySum(x) + surfaceTermsEnergy(x) + ev;
   PetscCall(VecRestoreArrayRead(xLocal, &x));
-  e += ev;
   if (std::isnan(e)) e = PETSC_INFINITY;  // an undefined state is never accepted by the line search
   PetscCallMPI(MPI_Allreduce(&e, value, 1, MPI_DOUBLE, MPI_SUM, comm));
   PetscFunctionReturn(0);
@@ -600,6 +800,7 @@ PetscErrorCode DiscretizationT<R, C>::gradient(Vec xLocal, Vec gLocal) const {
   PetscCall(VecGetArray(gLocal, &g));
   for (size_t c = 0; c < cells_.size(); ++c) {
     const Cell &cell = cells_[c];
+    if (!cell.owned) continue;
     const auto d = energies::evaluateEnergy<R, C>(materialOf(c), dataOf(c), deformationGradient(cell, x),
                                                   kernels::Order::Gradient);
     const EMat<R, C> P = cell.measure * kernels::unflatten<R, C>(d.grad);
@@ -609,6 +810,7 @@ PetscErrorCode DiscretizationT<R, C>::gradient(Vec xLocal, Vec gLocal) const {
       for (int i = 0; i < R; ++i) gp[i] += gv[i];
     }
   }
+  addSurfaceTermsGradient(x, g);
   const bool inertia = dyn_.dt > 0.0, grav = dyn_.gravity.squaredNorm() > 0.0;
   if (inertia || grav)
     for (size_t v = 0; v < verts_.size(); ++v) {
@@ -636,6 +838,7 @@ PetscErrorCode DiscretizationT<R, C>::hessian(Vec xLocal, Mat J) {
   Eigen::Matrix<double, NDOF, NDOF, Eigen::RowMajor> K;
   for (size_t c = 0; c < cells_.size(); ++c) {
     const Cell &cell = cells_[c];
+    if (!cell.owned) continue;
     const auto d = energies::evaluateEnergy<R, C>(materialOf(c), dataOf(c), deformationGradient(cell, x),
                                                   kernels::Order::Hessian);
     const EMat<NF, NF> H = cell.measure * kernels::projectToPSD<NF>(d.hess);
@@ -671,6 +874,7 @@ PetscErrorCode DiscretizationT<R, C>::hessian(Vec xLocal, Mat J) {
       PetscCall(MatSetValues(J, NDOF, rows, NDOF, rows, K.data(), ADD_VALUES));
     }
   }
+  PetscCall(addSurfaceTermsHessian(x, J));
   if (dyn_.dt > 0.0)
     for (size_t v = 0; v < verts_.size(); ++v) {
       const auto &vi = verts_[v];
@@ -823,7 +1027,14 @@ PetscErrorCode DiscretizationT<R, C>::gatherCellField(const std::vector<double> 
   MPI_Comm comm;
   PetscFunctionBeginUser;
   PetscCall(PetscObjectGetComm((PetscObject)mesh_->dm, &comm));
-  PetscCall(gatherNatural(comm, mesh_->naturalCell, perCell, components, mesh_->numCellsGlobal, values));
+  std::vector<PetscInt> ids;
+  std::vector<double> vals;
+  for (size_t c = 0; c < cells_.size(); ++c)
+    if (cells_[c].owned) {
+      ids.push_back(mesh_->naturalCell[c]);
+      vals.insert(vals.end(), perCell.begin() + c * components, perCell.begin() + (c + 1) * components);
+    }
+  PetscCall(gatherNatural(comm, ids, vals, components, mesh_->numCellsGlobal, values));
   PetscFunctionReturn(0);
 }
 
@@ -833,10 +1044,14 @@ PetscErrorCode DiscretizationT<R, C>::gatherTopology(std::vector<PetscInt> *cell
   PetscFunctionBeginUser;
   PetscCall(PetscObjectGetComm((PetscObject)mesh_->dm, &comm));
   std::vector<double> conn;
-  for (const auto &cell : cells_)
-    for (int v = 0; v < NV; ++v) conn.push_back(static_cast<double>(mesh_->naturalVertex[cell.vertex[v]]));
+  std::vector<PetscInt> ids;
+  for (size_t c = 0; c < cells_.size(); ++c) {
+    if (!cells_[c].owned) continue;
+    ids.push_back(mesh_->naturalCell[c]);
+    for (int v = 0; v < NV; ++v) conn.push_back(static_cast<double>(mesh_->naturalVertex[cells_[c].vertex[v]]));
+  }
   std::vector<double> all;
-  PetscCall(gatherNatural(comm, mesh_->naturalCell, conn, NV, mesh_->numCellsGlobal, &all));
+  PetscCall(gatherNatural(comm, ids, conn, NV, mesh_->numCellsGlobal, &all));
   cellsOut->resize(all.size());
   for (size_t i = 0; i < all.size(); ++i) (*cellsOut)[i] = static_cast<PetscInt>(all[i]);
   PetscFunctionReturn(0);

@@ -175,7 +175,8 @@ PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh) {
     if (partitioner == "metis") PetscCall(setMetisPartition(serial, part));
     else PetscCall(PetscPartitionerSetType(part, PETSCPARTITIONERPTSCOTCH));
     DM dist = nullptr;
-    PetscCall(DMPlexDistribute(serial, 0, &migration, &dist));
+    const PetscInt overlap = mesh->topoDim == 2 ? 1 : 0;
+    PetscCall(DMPlexDistribute(serial, overlap, &migration, &dist));
     if (dist) {
       PetscCall(DMDestroy(&serial));
       serial = dist;
@@ -203,6 +204,20 @@ PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh) {
       if (p >= mesh->vStart && p < mesh->vEnd) mesh->naturalVertex[p - mesh->vStart] = orig - serialVStart;
     }
     PetscCall(PetscSFDestroy(&migration));
+  }
+
+  // Cells that are leaves of the point SF belong to another rank (overlap layer).
+  mesh->cellOwned.assign(mesh->cEnd - mesh->cStart, 1);
+  {
+    PetscSF pointSF;
+    PetscInt nleaves;
+    const PetscInt *ilocal;
+    PetscCall(DMGetPointSF(mesh->dm, &pointSF));
+    PetscCall(PetscSFGetGraph(pointSF, nullptr, &nleaves, &ilocal, nullptr));
+    for (PetscInt i = 0; i < nleaves; ++i) {
+      const PetscInt p = ilocal ? ilocal[i] : i;
+      if (p >= mesh->cStart && p < mesh->cEnd) mesh->cellOwned[p - mesh->cStart] = 0;
+    }
   }
 
   // Only simplices.

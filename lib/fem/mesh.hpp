@@ -1,7 +1,9 @@
 // Mesh loading: a gmsh file read on rank 0 through DMPlex (-dm_plex_filename), partitioned with METIS (default,
 // through PETSc's shell partitioner) or PT-Scotch (-partitioner ptscotch), then distributed. Keeps the natural
 // (serial, gmsh-order) number of every local vertex and cell, which makes random initial states, per-cell input
-// files and the output independent of the number of ranks.
+// files and the output independent of the number of ranks. Surface meshes (cloth, UV) are distributed with one layer
+// of overlap cells so that every owned interior edge has both of its triangles locally (bending hinges); those
+// overlap cells are marked not owned and are skipped by every sum over cells.
 #pragma once
 
 #include "energies/material.hpp"
@@ -21,6 +23,7 @@ struct Mesh {
   PetscInt topoDim = 3, spaceDim = 3;
   PetscInt cStart = 0, cEnd = 0, vStart = 0, vEnd = 0;
   std::vector<PetscInt> naturalCell;    // per local cell (c - cStart)
+  std::vector<char> cellOwned;          // per local cell: 0 for overlap cells (surface meshes carry one layer)
   std::vector<PetscInt> naturalVertex;  // per local vertex (v - vStart)
   PetscInt numCellsGlobal = 0, numVerticesGlobal = 0;
   struct PhysicalGroup {

@@ -163,6 +163,7 @@ PetscErrorCode NewtonSolver::setup(fem::Discretization &disc, bool dynamic, doub
   PetscCall(SNESSetObjective(snes_, objectiveCallback, this));
   PetscCall(DMCreateMatrix(dm, &J_));
   PetscCall(MatSetOption(J_, MAT_SYMMETRIC, PETSC_TRUE));
+  if (disc.couplesBeyondCells()) PetscCall(MatSetOption(J_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
   PetscCall(SNESSetJacobian(snes_, J_, J_, nullptr, nullptr));
   PetscCall(DMCreateGlobalVector(dm, &work_));
 
