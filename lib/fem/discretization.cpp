@@ -59,8 +59,15 @@ PetscErrorCode gatherNatural(MPI_Comm comm, const std::vector<PetscInt> &ids, co
   PetscFunctionReturn(0);
 }
 
-// Material frame of a rest triangle in 3D: the projection of the global x and y axes onto its plane (so a flat
-// cloth in the xy plane has u = x, v = y whatever its triangles' orientation); falls back to (x,z) / (y,z).
+// Material frame of a rest triangle in 3D with (oriented) unit normal n: the projection of the global x and y axes
+// onto its plane (a flat cloth in the xy plane with normals +z has u = x, v = y); falls back to (x,z) / (y,z). The
+// frame is made right-handed about n, so every rest triangle of a consistently oriented surface has a positive
+// area in it (and a flipped element of a UV map is one with det F < 0).
+Eigen::Matrix<double, 3, 2> orientedFrame(Eigen::Matrix<double, 3, 2> E, const Eigen::Vector3d &n) {
+  if (E.col(0).cross(E.col(1)).dot(n) < 0.0) E.col(1) *= -1.0;
+  return E;
+}
+
 Eigen::Matrix<double, 3, 2> clothFrame(const Eigen::Vector3d &n) {
   const Eigen::Vector3d axes[3] = {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitZ()};
   const int pairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
@@ -73,11 +80,11 @@ Eigen::Matrix<double, 3, 2> clothFrame(const Eigen::Vector3d &n) {
     if (e2.norm() < 0.3) continue;
     Eigen::Matrix<double, 3, 2> E;
     E << e1, e2.normalized();
-    return E;
+    return orientedFrame(E, n);
   }
   Eigen::Matrix<double, 3, 2> E;
   E << n.unitOrthogonal(), n.cross(n.unitOrthogonal());
-  return E;
+  return orientedFrame(E, n);
 }
 
 }  // namespace
@@ -113,6 +120,7 @@ class DiscretizationT final : public Discretization {
   PetscErrorCode elasticEnergy(Vec xLocal, PetscReal *value) const override;
   PetscErrorCode updateBarrierFallback(Vec xLocal, double threshold, PetscInt *count) override;
   PetscErrorCode cellAlpha(Vec xLocal, std::vector<double> *alpha) const override;
+  PetscErrorCode cellGuard(Vec xLocal, std::vector<double> *guard) const override;
   PetscErrorCode cellQuantities(Vec xLocal, CellQuantities *q) const override;
   PetscErrorCode gatherVertexField(Vec xLocal, std::vector<double> *values) const override;
   PetscErrorCode gatherRestPositions(std::vector<double> *values) const override;
@@ -123,7 +131,7 @@ class DiscretizationT final : public Discretization {
   int shapeCols() const override { return C; }
   bool couplesBeyondCells() const override { return !hinges_.empty(); }
   void forEachOwnedFreeVertex(
-      const std::function<void(PetscInt, PetscInt, const Eigen::Vector3d &)> &fn) const override;
+      const std::function<void(PetscInt, PetscInt, PetscInt, const Eigen::Vector3d &)> &fn) const override;
   PetscErrorCode maxDisplacement(Vec xLocal, PetscReal *value) const override;
   PetscErrorCode reactionForce(Vec xLocal, size_t set, Eigen::Vector3d *force) const override;
 
@@ -173,6 +181,7 @@ class DiscretizationT final : public Discretization {
   std::vector<double> mass_;                       // per local vertex
   std::vector<double> xTilde_;                     // per local dof (dynamics)
   std::vector<Hinge> hinges_;                      // owned interior edges (cloth bending)
+  PetscBool keepOrientation_ = PETSC_FALSE;        // -keep_orientation (planar elements)
   double bending_ = 0.0;                           // -bending stiffness
   std::vector<kernels::Obstacle> obstacles_;       // -obstacle_plane / -obstacle_sphere
   double contactDhat_ = 0.0, contactKappa_ = 0.0;  // -contact_dhat, -contact_stiffness
@@ -362,18 +371,22 @@ PetscErrorCode DiscretizationT<R, C>::setup(Mesh &mesh) {
     PetscCall(DMPlexRestoreTransitiveClosure(dm, c, PETSC_TRUE, &ncl, &closure));
     // Rest edge matrix in the material frame (C x C).
     EMat<C, C> Dm;
-    if constexpr (R == 3 && C == 2) {
-      const Eigen::Vector3d X0 = verts_[cell.vertex[0]].rest;
-      const Eigen::Vector3d e1 = verts_[cell.vertex[1]].rest - X0, e2 = verts_[cell.vertex[2]].rest - X0;
-      Eigen::Vector3d n = e1.cross(e2);
-      n = n.norm() > 0.0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d::UnitZ();
-      const Eigen::Matrix<double, 3, 2> E = clothFrame(n);
-      Dm.col(0) = E.transpose() * e1;
-      Dm.col(1) = E.transpose() * e2;
-    } else {
+    bool projected = false;
+    if constexpr (C == 2) {
+      if (mesh.spaceDim == 3) {  // cloth, or a UV map: the 3D triangle in its material frame
+        const Eigen::Vector3d X0 = verts_[cell.vertex[0]].rest;
+        const Eigen::Vector3d e1 = verts_[cell.vertex[1]].rest - X0, e2 = verts_[cell.vertex[2]].rest - X0;
+        Eigen::Vector3d n = e1.cross(e2);
+        n = n.norm() > 0.0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d::UnitZ();
+        const Eigen::Matrix<double, 3, 2> E = clothFrame(n);
+        Dm.col(0) = E.transpose() * e1;
+        Dm.col(1) = E.transpose() * e2;
+        projected = true;
+      }
+    }
+    if (!projected)
       for (int k2 = 0; k2 < C; ++k2)
         Dm.col(k2) = (verts_[cell.vertex[k2 + 1]].rest - verts_[cell.vertex[0]].rest).template head<C>();
-    }
     const double det = Dm.determinant();
     signedMeasure[c - mesh.cStart] = det / (C == 3 ? 6.0 : 2.0);
     cell.measure = std::abs(signedMeasure[c - mesh.cStart]);
@@ -488,6 +501,10 @@ PetscErrorCode DiscretizationT<R, C>::setupSurfaceTerms(Mesh &mesh) {
   PetscBool set = PETSC_FALSE;
   PetscFunctionBeginUser;
   PetscCall(PetscObjectGetComm((PetscObject)mesh.dm, &comm));
+  if constexpr (R == 2 && C == 2) {
+    keepOrientation_ = mesh.uvMap ? PETSC_TRUE : PETSC_FALSE;
+    PetscCall(optionBool(nullptr, "-keep_orientation", &keepOrientation_, nullptr));
+  }
   if constexpr (R == 3 && C == 2) {
     PetscCall(optionReal(nullptr, "-bending", &bending_, &set));
     if (!(bending_ >= 0.0))
@@ -688,10 +705,10 @@ PetscErrorCode DiscretizationT<R, C>::restPositions(Vec xGlobal) const {
 
 template <int R, int C>
 void DiscretizationT<R, C>::forEachOwnedFreeVertex(
-    const std::function<void(PetscInt, PetscInt, const Eigen::Vector3d &)> &fn) const {
+    const std::function<void(PetscInt, PetscInt, PetscInt, const Eigen::Vector3d &)> &fn) const {
   for (size_t v = 0; v < verts_.size(); ++v) {
     const auto &vi = verts_[v];
-    if (vi.owned && vi.bcSet < 0) fn(mesh_->naturalVertex[v], vi.global, vi.rest);
+    if (vi.owned && vi.bcSet < 0) fn(static_cast<PetscInt>(v), mesh_->naturalVertex[v], vi.global, vi.rest);
   }
 }
 
@@ -926,6 +943,22 @@ PetscErrorCode DiscretizationT<R, C>::cellAlpha(Vec xLocal, std::vector<double> 
   PetscCall(VecGetArrayRead(xLocal, &x));
   for (size_t c = 0; c < cells_.size(); ++c) (*alpha)[c] = energies::elementAlpha<R, C>(deformationGradient(cells_[c], x));
   PetscCall(VecRestoreArrayRead(xLocal, &x));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::cellGuard(Vec xLocal, std::vector<double> *guard) const {
+  PetscFunctionBeginUser;
+  PetscCall(cellAlpha(xLocal, guard));
+  if constexpr (R == 2 && C == 2) {
+    if (keepOrientation_) {
+      const PetscScalar *x;
+      PetscCall(VecGetArrayRead(xLocal, &x));
+      for (size_t c = 0; c < cells_.size(); ++c)
+        (*guard)[c] = std::min((*guard)[c], deformationGradient(cells_[c], x).determinant());
+      PetscCall(VecRestoreArrayRead(xLocal, &x));
+    }
+  }
   PetscFunctionReturn(0);
 }
 

@@ -78,6 +78,9 @@ class Discretization {
 
   // alpha of every local cell at a local state; minimum over all cells (collective).
   virtual PetscErrorCode cellAlpha(Vec xLocal, std::vector<double> *alpha) const = 0;
+  // The quantity the safeguard keeps above -alpha_min: alpha, or min(alpha, det F) for planar elements under
+  // -keep_orientation (in 2D alpha = s1 + s2 stays positive when a triangle flips, det F does not).
+  virtual PetscErrorCode cellGuard(Vec xLocal, std::vector<double> *guard) const = 0;
   virtual PetscErrorCode cellQuantities(Vec xLocal, CellQuantities *q) const = 0;
 
   // Output in natural (serial gmsh) order, gathered on rank 0 (empty elsewhere).
@@ -90,8 +93,9 @@ class Discretization {
   PetscInt verticesPerCell() const { return shapeCols() + 1; }
   virtual int shapeCols() const = 0;
 
-  // Free (non-Dirichlet) owned vertices: (natural id, global offset of its first dof, rest position).
-  virtual void forEachOwnedFreeVertex(const std::function<void(PetscInt natural, PetscInt globalOffset,
+  // Free (non-Dirichlet) owned vertices: (local vertex index v - vStart, natural id, global offset of its first
+  // dof, rest position).
+  virtual void forEachOwnedFreeVertex(const std::function<void(PetscInt local, PetscInt natural, PetscInt globalOffset,
                                                                const Eigen::Vector3d &rest)> &fn) const = 0;
 
   // Reaction force on Dirichlet set `set` (index into boundary().sets): the sum over its vertices of the elastic

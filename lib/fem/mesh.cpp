@@ -147,7 +147,16 @@ PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh) {
   PetscCall(DMPlexCreateFromFile(comm, mesh->filename.c_str(), "aries", PETSC_TRUE, &serial));
   PetscCall(DMGetDimension(serial, &mesh->topoDim));
   PetscCall(DMGetCoordinateDim(serial, &mesh->spaceDim));
+  PetscBool uvMap = PETSC_FALSE;
+  PetscCall(optionBool(nullptr, "-uv_map", &uvMap, nullptr));
+  if (uvMap && !(mesh->topoDim == 2 && mesh->spaceDim == 3))
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+            "option -uv_map needs a triangle surface in 3D (mesh '%s' has %d-dimensional cells in %d-dimensional "
+            "space; pass -dm_plex_gmsh_spacedim 3)",
+            mesh->filename.c_str(), (int)mesh->topoDim, (int)mesh->spaceDim);
+  mesh->uvMap = uvMap;
   if (mesh->topoDim == 3 && mesh->spaceDim == 3) mesh->shape = energies::ElementShape::Tet;
+  else if (uvMap) mesh->shape = energies::ElementShape::Planar;  // 2D unknowns, rest from the 3D triangles
   else if (mesh->topoDim == 2 && mesh->spaceDim == 3) mesh->shape = energies::ElementShape::Cloth;
   else if (mesh->topoDim == 2 && mesh->spaceDim == 2) mesh->shape = energies::ElementShape::Planar;
   else

@@ -20,6 +20,7 @@ struct Mesh {
   DM dm = nullptr;  // distributed, interpolated DMPlex with coordinates and the gmsh labels
   std::string filename;
   energies::ElementShape shape = energies::ElementShape::Tet;
+  bool uvMap = false;  // -uv_map: planar elements (2D unknowns) on a 3D surface, rest = each 3D triangle
   PetscInt topoDim = 3, spaceDim = 3;
   PetscInt cStart = 0, cEnd = 0, vStart = 0, vEnd = 0;
   std::vector<PetscInt> naturalCell;    // per local cell (c - cStart)

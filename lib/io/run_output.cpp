@@ -118,9 +118,10 @@ PetscErrorCode RunOutput::afterStep(const solver::Simulation &sim, const solver:
   PetscCall(DMRestoreLocalVector(disc.dm(), &xLocal));
   const std::string halved =
       rep.newton.safeguardHalvings ? " (safeguard halved the step " + std::to_string(rep.newton.safeguardHalvings) + "x)" : "";
-  PetscCall(PetscPrintf(comm_, "step %d/%d  t=%g  newton %d  cg %d  min_alpha %.3e  %.3f s  %s%s\n", (int)rep.step,
-                        (int)rep.steps, rep.time, (int)rep.newton.newtonIterations, (int)rep.newton.linearIterations,
-                        st.minAlpha, rep.wallSeconds, rep.reason.c_str(), halved.c_str()));
+  PetscCall(PetscPrintf(comm_, "step %d/%d  t=%g  newton %d  cg %d  min_alpha %.3e  |r| %.2e  %.3f s  %s%s\n",
+                        (int)rep.step, (int)rep.steps, rep.time, (int)rep.newton.newtonIterations,
+                        (int)rep.newton.linearIterations, st.minAlpha, rep.newton.residualNorm, rep.wallSeconds,
+                        rep.reason.c_str(), halved.c_str()));
   if (rep.step % opts_.outputEvery == 0 || rep.stopping) PetscCall(writeState(sim, rep.step, rep.time));
   PetscFunctionReturn(0);
 }

@@ -58,7 +58,7 @@ PetscErrorCode NewtonSolver::alphasAt(Vec xGlobal, std::vector<double> *alpha) {
   PetscCall(DMGetLocalVector(dm, &xLocal));
   PetscCall(DMGlobalToLocal(dm, xGlobal, INSERT_VALUES, xLocal));
   PetscCall(disc_->fillBoundary(xLocal));
-  PetscCall(disc_->cellAlpha(xLocal, alpha));
+  PetscCall(disc_->cellGuard(xLocal, alpha));
   PetscCall(DMRestoreLocalVector(dm, &xLocal));
   PetscFunctionReturn(0);
 }
@@ -203,6 +203,7 @@ PetscErrorCode NewtonSolver::solve(Vec x, NewtonResult *result) {
   PetscCall(SNESSolve(snes_, nullptr, x));
   PetscCall(KSPGetTotalIterations(ksp, &kspAfter));
   PetscCall(SNESGetIterationNumber(snes_, &result->newtonIterations));
+  PetscCall(SNESGetFunctionNorm(snes_, &result->residualNorm));
   result->linearIterations = kspAfter - kspBefore;  // SNES keeps a stale count when it converges at iteration 0
   PetscCall(SNESGetConvergedReason(snes_, &result->reason));
   result->safeguardHalvings = halvings_;

@@ -22,6 +22,7 @@ struct NewtonResult {
   SNESConvergedReason reason = SNES_CONVERGED_ITERATING;
   bool stepCriterion = false;  // converged by the Newton-step criterion (reported as "newton_step")
   PetscInt barrierFallbackCells = 0;  // cells evaluated with the mollifier in barrier mode (alpha ~ 0)
+  PetscReal residualNorm = 0.0;       // |gradient of the potential| over the free dofs at the last iterate
   bool converged() const { return reason > 0; }
 };
 

@@ -1,6 +1,7 @@
 #include "solver/simulation.hpp"
 
 #include "fem/options.hpp"
+#include "fem/tutte.hpp"
 
 #include <cmath>
 #include <cstdint>
@@ -61,7 +62,8 @@ PetscErrorCode readSimulationOptions(SimulationOptions *o) {
     if (s == "rest") o->initial = InitialState::Rest;
     else if (s == "scramble") o->initial = InitialState::Scramble;
     else if (s == "invert") o->initial = InitialState::Invert;
-    else SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -initial: '%s' is not rest|scramble|invert", s.c_str());
+    else if (s == "tutte") o->initial = InitialState::Tutte;
+    else SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -initial: '%s' is not rest|scramble|invert|tutte", s.c_str());
   }
   if (o->initial == InitialState::Scramble) {
     PetscCall(fem::optionReal(nullptr, "-scramble_volume_ratio", &o->scrambleVolumeRatio, &set));
@@ -116,10 +118,26 @@ PetscErrorCode Simulation::applyInitialState() {
   PetscFunctionBeginUser;
   if (opts_.initial == InitialState::Rest) PetscFunctionReturn(0);
   PetscCall(PetscObjectGetComm((PetscObject)x_, &comm));
+  if (opts_.initial == InitialState::Tutte) {
+    std::vector<Eigen::Vector2d> uv;
+    PetscCall(fem::tutteEmbedding(disc_->mesh(), &uv));
+    if (disc_->dofsPerVertex() != 2)
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "-initial tutte makes a 2D map: use it with -uv_map");
+    PetscInt lo;
+    PetscScalar *xa;
+    PetscCall(VecGetOwnershipRange(x_, &lo, nullptr));
+    PetscCall(VecGetArray(x_, &xa));
+    disc_->forEachOwnedFreeVertex([&](PetscInt local, PetscInt, PetscInt off, const Eigen::Vector3d &) {
+      xa[off - lo] = uv[local][0];
+      xa[off - lo + 1] = uv[local][1];
+    });
+    PetscCall(VecRestoreArray(x_, &xa));
+    PetscFunctionReturn(0);
+  }
   const int R = static_cast<int>(disc_->dofsPerVertex());
   // Rest centroid and measure of the body (vertices are the free ones; the centroid uses all cells).
   double acc[4] = {0, 0, 0, 0}, tot[4];
-  disc_->forEachOwnedFreeVertex([&](PetscInt, PetscInt, const Eigen::Vector3d &X) {
+  disc_->forEachOwnedFreeVertex([&](PetscInt, PetscInt, PetscInt, const Eigen::Vector3d &X) {
     acc[0] += X[0];
     acc[1] += X[1];
     acc[2] += X[2];
@@ -133,14 +151,14 @@ PetscErrorCode Simulation::applyInitialState() {
   PetscCall(VecGetOwnershipRange(x_, &lo, nullptr));
   PetscCall(VecGetArray(x_, &x));
   if (opts_.initial == InitialState::Invert) {
-    disc_->forEachOwnedFreeVertex([&](PetscInt, PetscInt off, const Eigen::Vector3d &X) {
+    disc_->forEachOwnedFreeVertex([&](PetscInt, PetscInt, PetscInt off, const Eigen::Vector3d &X) {
       for (int i = 0; i < R; ++i) x[off - lo + i] = 2.0 * centroid[i] - X[i];
     });
   } else {
     const int dim = disc_->shapeCols() == 3 ? 3 : 2;
     const double side = std::pow(opts_.scrambleVolumeRatio * disc_->restMeasureGlobal(), 1.0 / dim);
     const uint64_t seed = static_cast<uint64_t>(opts_.scrambleSeed);
-    disc_->forEachOwnedFreeVertex([&](PetscInt natural, PetscInt off, const Eigen::Vector3d &) {
+    disc_->forEachOwnedFreeVertex([&](PetscInt, PetscInt natural, PetscInt off, const Eigen::Vector3d &) {
       for (int i = 0; i < R; ++i) {
         const bool inPlane = i < dim;
         x[off - lo + i] = centroid[i] + (inPlane ? side * (uniform01(seed, natural, i) - 0.5) : 0.0);
@@ -194,6 +212,7 @@ PetscErrorCode Simulation::solveToLoad(double loadTarget, NewtonResult *acc, boo
     acc->safeguardHalvings += r.safeguardHalvings;
     acc->reason = r.reason;
     acc->stepCriterion = r.stepCriterion;
+    acc->residualNorm = r.residualNorm;
     *reason = reasonName(r);
     if (!r.converged()) {
       *ok = false;

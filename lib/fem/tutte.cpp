@@ -1,0 +1,249 @@
+#include "fem/tutte.hpp"
+
+#include "fem/errors.hpp"
+
+#include <petscksp.h>
+#include <petscsf.h>
+
+#include <cmath>
+#include <map>
+#include <sstream>
+
+namespace aries::fem {
+
+namespace {
+
+std::vector<char> leafFlags(DM dm, PetscInt pStart, PetscInt pEnd) {
+  std::vector<char> leaf(pEnd - pStart, 0);
+  PetscSF sf;
+  PetscInt nleaves;
+  const PetscInt *ilocal;
+  DMGetPointSF(dm, &sf);
+  PetscSFGetGraph(sf, nullptr, &nleaves, &ilocal, nullptr);
+  for (PetscInt i = 0; i < nleaves; ++i) leaf[(ilocal ? ilocal[i] : i) - pStart] = 1;
+  return leaf;
+}
+
+}  // namespace
+
+PetscErrorCode tutteEmbedding(const Mesh &mesh, std::vector<Eigen::Vector2d> *uv) {
+  MPI_Comm comm;
+  PetscMPIInt rank, size;
+  DM dm = mesh.dm;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetComm((PetscObject)dm, &comm));
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  if (mesh.topoDim != 2)
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "-initial tutte needs a triangle surface mesh ('%s' has %d-dimensional cells)",
+            mesh.filename.c_str(), (int)mesh.topoDim);
+  PetscInt pStart, pEnd, eStart, eEnd;
+  PetscCall(DMPlexGetChart(dm, &pStart, &pEnd));
+  PetscCall(DMPlexGetDepthStratum(dm, 1, &eStart, &eEnd));
+  const std::vector<char> leaf = leafFlags(dm, pStart, pEnd);
+  Vec coords;
+  PetscSection cs;
+  const PetscScalar *X;
+  PetscCall(DMGetCoordinatesLocal(dm, &coords));
+  PetscCall(DMGetCoordinateSection(dm, &cs));
+  PetscCall(VecGetArrayRead(coords, &X));
+  auto restOf = [&](PetscInt v) {
+    PetscInt off;
+    PetscSectionGetOffset(cs, v, &off);
+    return Eigen::Vector3d(X[off], X[off + 1], mesh.spaceDim == 3 ? X[off + 2] : 0.0);
+  };
+
+  // Boundary edges (owned, one triangle) as (natural v0, natural v1, length), gathered on rank 0.
+  std::vector<double> mine;
+  std::map<PetscInt, Eigen::Vector3d> boundaryRest;
+  for (PetscInt e = eStart; e < eEnd; ++e) {
+    if (leaf[e - pStart]) continue;
+    PetscInt nsupp;
+    PetscCall(DMPlexGetSupportSize(dm, e, &nsupp));
+    if (nsupp != 1) continue;
+    const PetscInt *cone, *supp;
+    PetscCall(DMPlexGetCone(dm, e, &cone));
+    PetscCall(DMPlexGetSupport(dm, e, &supp));
+    // Direct the edge as it runs in its triangle's vertex cycle, so the loop follows the mesh orientation and the
+    // circle is traversed counterclockwise in the elements' frames (no mirrored map).
+    PetscInt ncl, *closure = nullptr, cv[3], k = 0;
+    PetscCall(DMPlexGetTransitiveClosure(dm, supp[0], PETSC_TRUE, &ncl, &closure));
+    for (PetscInt i = 0; i < ncl && k < 3; ++i)
+      if (closure[2 * i] >= mesh.vStart && closure[2 * i] < mesh.vEnd) cv[k++] = closure[2 * i];
+    PetscCall(DMPlexRestoreTransitiveClosure(dm, supp[0], PETSC_TRUE, &ncl, &closure));
+    PetscInt from = cone[0], to = cone[1];
+    for (int i = 0; i < 3; ++i)
+      if (cv[i] == cone[1] && cv[(i + 1) % 3] == cone[0]) std::swap(from, to);
+    const PetscInt a = mesh.naturalVertex[from - mesh.vStart], b = mesh.naturalVertex[to - mesh.vStart];
+    mine.insert(mine.end(), {(double)a, (double)b, (restOf(from) - restOf(to)).norm()});
+  }
+  PetscCall(VecRestoreArrayRead(coords, &X));
+  int n = static_cast<int>(mine.size());
+  std::vector<int> counts(size), displs(size);
+  PetscCallMPI(MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm));
+  int total = 0;
+  if (rank == 0)
+    for (int p = 0; p < size; ++p) {
+      displs[p] = total;
+      total += counts[p];
+    }
+  std::vector<double> all(rank == 0 ? total : 0);
+  PetscCallMPI(MPI_Gatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, 0, comm));
+
+  // Rank 0: walk the loop, place it on a circle.
+  std::vector<double> placed;  // (natural id, u, v) triples
+  std::string error;
+  if (rank == 0) {
+    std::map<PetscInt, std::pair<PetscInt, double>> next;  // directed boundary edge a -> (b, length)
+    std::map<PetscInt, int> outDeg, inDeg;
+    for (size_t i = 0; i < all.size(); i += 3) {
+      const auto a = static_cast<PetscInt>(all[i]), b = static_cast<PetscInt>(all[i + 1]);
+      next[a] = {b, all[i + 2]};
+      outDeg[a]++;
+      inDeg[b]++;
+    }
+    for (const auto &kv : outDeg)
+      if ((kv.second != 1 || inDeg[kv.first] != 1) && error.empty()) {
+        std::ostringstream o;
+        o << "mesh '" << mesh.filename << "' is not a disk: boundary vertex " << kv.first
+          << " starts or ends more than one boundary edge (-initial tutte and -uv_map need one simple boundary loop)";
+        error = o.str();
+      }
+    if (next.empty() && error.empty())
+      error = "mesh '" + mesh.filename + "' has no boundary: -initial tutte needs a disk-topology surface";
+    if (error.empty()) {
+      std::vector<std::pair<PetscInt, double>> loop;  // (vertex, arc length at it)
+      PetscInt cur = next.begin()->first;
+      double s = 0.0;
+      do {
+        loop.push_back({cur, s});
+        s += next[cur].second;
+        cur = next[cur].first;
+      } while (cur != loop.front().first && loop.size() <= next.size() && next.count(cur));
+      if (loop.size() != next.size() || cur != loop.front().first) {
+        std::ostringstream o;
+        o << "mesh '" << mesh.filename << "' has " << next.size() << " boundary vertices but its first boundary loop "
+          << "has " << loop.size() << ": more than one loop (holes); -initial tutte needs a disk";
+        error = o.str();
+      }
+      const double radius = s / (2.0 * M_PI);
+      for (const auto &[v, sv] : loop) {
+        const double t = 2.0 * M_PI * sv / s;
+        placed.insert(placed.end(), {(double)v, radius * std::cos(t), radius * std::sin(t)});
+      }
+    }
+  }
+  PetscCall(collectiveCheck(comm, !error.empty(), error));
+  int np = static_cast<int>(placed.size());
+  PetscCallMPI(MPI_Bcast(&np, 1, MPI_INT, 0, comm));
+  placed.resize(np);
+  PetscCallMPI(MPI_Bcast(placed.data(), np, MPI_DOUBLE, 0, comm));
+  std::map<PetscInt, Eigen::Vector2d> boundaryUV;
+  for (int i = 0; i < np; i += 3) boundaryUV[static_cast<PetscInt>(placed[i])] = {placed[i + 1], placed[i + 2]};
+
+  // Scalar problem on a clone of the DM: 1 dof per vertex, boundary vertices constrained.
+  DM sdm;
+  PetscCall(DMClone(dm, &sdm));
+  PetscSection sec;
+  PetscCall(PetscSectionCreate(comm, &sec));
+  PetscCall(PetscSectionSetChart(sec, pStart, pEnd));
+  std::vector<char> onBoundary(mesh.vEnd - mesh.vStart, 0);
+  for (PetscInt v = mesh.vStart; v < mesh.vEnd; ++v) {
+    PetscCall(PetscSectionSetDof(sec, v, 1));
+    if (boundaryUV.count(mesh.naturalVertex[v - mesh.vStart])) {
+      onBoundary[v - mesh.vStart] = 1;
+      PetscCall(PetscSectionSetConstraintDof(sec, v, 1));
+    }
+  }
+  PetscCall(PetscSectionSetUp(sec));
+  const PetscInt zero = 0;
+  for (PetscInt v = mesh.vStart; v < mesh.vEnd; ++v)
+    if (onBoundary[v - mesh.vStart]) PetscCall(PetscSectionSetConstraintIndices(sec, v, &zero));
+  PetscCall(DMSetLocalSection(sdm, sec));
+  PetscCall(PetscSectionDestroy(&sec));
+  PetscCall(DMSetMatType(sdm, MATAIJ));
+  PetscSection gsec;
+  PetscCall(DMGetGlobalSection(sdm, &gsec));
+  Mat K;
+  Vec b[2], x[2];
+  PetscCall(DMCreateMatrix(sdm, &K));
+  for (int k = 0; k < 2; ++k) {
+    PetscCall(DMCreateGlobalVector(sdm, &b[k]));
+    PetscCall(VecDuplicate(b[k], &x[k]));
+    PetscCall(VecSet(b[k], 0.0));
+  }
+  const double Ke[3][3] = {{2, -1, -1}, {-1, 2, -1}, {-1, -1, 2}};  // the triangle's three edges, weight 1 each
+  for (PetscInt c = mesh.cStart; c < mesh.cEnd; ++c) {
+    if (!mesh.cellOwned[c - mesh.cStart]) continue;
+    PetscInt ncl, *closure = nullptr, verts[3], k = 0;
+    PetscCall(DMPlexGetTransitiveClosure(dm, c, PETSC_TRUE, &ncl, &closure));
+    for (PetscInt i = 0; i < ncl && k < 3; ++i)
+      if (closure[2 * i] >= mesh.vStart && closure[2 * i] < mesh.vEnd) verts[k++] = closure[2 * i];
+    PetscCall(DMPlexRestoreTransitiveClosure(dm, c, PETSC_TRUE, &ncl, &closure));
+    PetscInt rows[3];
+    for (int i = 0; i < 3; ++i) {
+      PetscInt off;
+      PetscCall(PetscSectionGetOffset(gsec, verts[i], &off));
+      rows[i] = onBoundary[verts[i] - mesh.vStart] ? -1 : (off >= 0 ? off : -(off + 1));
+    }
+    PetscCall(MatSetValues(K, 3, rows, 3, rows, &Ke[0][0], ADD_VALUES));
+    for (int i = 0; i < 3; ++i) {
+      if (rows[i] < 0) continue;
+      for (int j = 0; j < 3; ++j) {
+        if (!onBoundary[verts[j] - mesh.vStart]) continue;
+        const Eigen::Vector2d &g = boundaryUV[mesh.naturalVertex[verts[j] - mesh.vStart]];
+        for (int d = 0; d < 2; ++d) PetscCall(VecSetValue(b[d], rows[i], -Ke[i][j] * g[d], ADD_VALUES));
+      }
+    }
+  }
+  PetscCall(MatAssemblyBegin(K, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(K, MAT_FINAL_ASSEMBLY));
+  KSP ksp;
+  PetscCall(KSPCreate(comm, &ksp));
+  PetscCall(KSPSetOptionsPrefix(ksp, "tutte_"));
+  PetscCall(KSPSetOperators(ksp, K, K));
+  PetscCall(KSPSetType(ksp, KSPCG));
+  PC pc;
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(PCSetType(pc, PCGAMG));
+  PetscCall(KSPSetTolerances(ksp, 1e-10, PETSC_DEFAULT, PETSC_DEFAULT, 10000));
+  PetscCall(KSPSetFromOptions(ksp));
+  uv->assign(mesh.vEnd - mesh.vStart, Eigen::Vector2d::Zero());
+  for (int d = 0; d < 2; ++d) {
+    PetscCall(VecAssemblyBegin(b[d]));
+    PetscCall(VecAssemblyEnd(b[d]));
+    PetscCall(KSPSolve(ksp, b[d], x[d]));
+    KSPConvergedReason reason;
+    PetscCall(KSPGetConvergedReason(ksp, &reason));
+    PetscCheck(reason > 0, comm, PETSC_ERR_NOT_CONVERGED, "the Tutte embedding's linear solve did not converge (%s)",
+               KSPConvergedReasons[reason]);
+    Vec loc;
+    const PetscScalar *a;
+    PetscSection lsec;
+    PetscCall(DMGetLocalSection(sdm, &lsec));
+    PetscCall(DMGetLocalVector(sdm, &loc));
+    PetscCall(DMGlobalToLocal(sdm, x[d], INSERT_VALUES, loc));
+    PetscCall(VecGetArrayRead(loc, &a));
+    for (PetscInt v = mesh.vStart; v < mesh.vEnd; ++v) {
+      if (onBoundary[v - mesh.vStart]) {
+        (*uv)[v - mesh.vStart][d] = boundaryUV[mesh.naturalVertex[v - mesh.vStart]][d];
+      } else {
+        PetscInt off;
+        PetscCall(PetscSectionGetOffset(lsec, v, &off));
+        (*uv)[v - mesh.vStart][d] = a[off];
+      }
+    }
+    PetscCall(VecRestoreArrayRead(loc, &a));
+    PetscCall(DMRestoreLocalVector(sdm, &loc));
+  }
+  PetscCall(KSPDestroy(&ksp));
+  PetscCall(MatDestroy(&K));
+  for (int k = 0; k < 2; ++k) {
+    PetscCall(VecDestroy(&b[k]));
+    PetscCall(VecDestroy(&x[k]));
+  }
+  PetscCall(DMDestroy(&sdm));
+  PetscFunctionReturn(0);
+}
+
+}  // namespace aries::fem
