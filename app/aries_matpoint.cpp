@@ -194,13 +194,8 @@ PetscErrorCode runPath(const energies::Material &m, const fem::UniformCellData &
 }
 
 PetscErrorCode run() {
-  PetscBool help = PETSC_FALSE, json = PETSC_FALSE, set = PETSC_FALSE;
+  PetscBool json = PETSC_FALSE, set = PETSC_FALSE;
   PetscFunctionBeginUser;
-  PetscCall(PetscOptionsHasName(nullptr, nullptr, "-help", &help));
-  if (help) {
-    std::printf("%s", kHelp);
-    PetscFunctionReturn(0);
-  }
   PetscCall(fem::optionBool(nullptr, "-json", &json, nullptr));
   std::vector<PetscReal> Fv;
   PetscBool hasF = PETSC_FALSE;
@@ -261,6 +256,11 @@ PetscErrorCode run() {
 }  // namespace
 
 int main(int argc, char **argv) {
+  for (int i = 1; i < argc; ++i)
+    if (std::string(argv[i]) == "-help" || std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") {
+      std::printf("%s", kHelp);  // this tool's help only (PETSc's generic option list does not apply here)
+      return 0;
+    }
   PetscErrorCode ierr = PetscInitialize(&argc, &argv, nullptr, nullptr);
   if (ierr) return 2;
   ierr = fem::installErrorHandler("aries-matpoint");

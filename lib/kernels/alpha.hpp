@@ -1,7 +1,8 @@
 // The singularity measure alpha with PK1 and Hessian (paper Eqs. 27-30, App. B):
 //   3x3: alpha = 4 f^3 - 4 I_C f - 8 J = 8 (s1+s2)(s1+s3)(s2+s3)        (Eqs. 27-28, 145-146)
 //   2x2: alpha = f = s1 + s2                                            (Eqs. 29, 147-148)
-//   3x2: alpha = f sqrt(III_C) = (s1 + s2) sqrt(s1 s2)                   (Eqs. 30, 149-150)
+//   3x2: alpha = f sqrt(III_C) = (s1 + s2) s1 s2                          (Eqs. 30, 149-150)
+// (Eq. 30 prints (s1 + s2) sqrt(s1 s2), but sqrt(III_C) = sqrt(det C) = s1 s2: cloth alpha scales like |F|^3.)
 // alpha >= 0 always; alpha = 0 exactly on the singular set of I4 (inverted-to-mirror, collapsed). The value comes
 // from root_function.hpp (product of eigenvalue gaps near the singular set, so it never comes out negative).
 #pragma once

@@ -136,7 +136,7 @@ inline RootValue rootValue(const Mat<2, 2> &F) {
   return r;
 }
 
-// 3x2: f = sqrt(I_C + 2 sqrt(III_C)) with sqrt(III_C) = |f0 x f1|; alpha = f sqrt(III_C) (Eq. 30).
+// 3x2: f = sqrt(I_C + 2 sqrt(III_C)) with sqrt(III_C) = |f0 x f1| = s1 s2; alpha = f sqrt(III_C) (Eq. 30).
 inline RootValue rootValue(const Mat<3, 2> &F) {
   RootValue r;
   const Eigen::Vector3d c0 = F.col(0), c1 = F.col(1);
