@@ -62,16 +62,31 @@ PetscErrorCode run(int *exitCode) {
   PetscCall(solver::readSimulationOptions(&simOpts));
   io::OutputOptions outOpts;
   PetscCall(io::readOutputOptions(&outOpts));
+  io::CheckpointOptions ckOpts;
+  PetscCall(io::readCheckpointOptions(outOpts.output, &ckOpts));
   fem::Mesh mesh;
   PetscCall(fem::loadMesh(comm, &mesh));
   std::unique_ptr<fem::Discretization> disc;
   PetscCall(fem::Discretization::create(mesh, &disc));
   solver::Simulation sim;
   PetscCall(sim.setup(*disc, simOpts));
-  io::RunOutput output;
-  PetscCall(output.setup(outOpts, *disc));
-  PetscCall(PetscLogStagePop());
+  PetscInt resumeStep = -1;
+  if (!ckOpts.restart.empty()) {
+    io::CheckpointState st;
+    PetscCall(io::readCheckpoint(mesh, ckOpts.restart, &st));
+    if (st.step > simOpts.steps)
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "checkpoint '%s' is at step %d, beyond -steps %d",
+              ckOpts.restart.c_str(), (int)st.step, (int)simOpts.steps);
+    PetscCall(sim.resume(st.positions, st.velocities, st.step, st.time, st.load));
+    resumeStep = st.step;
+    PetscCall(PetscPrintf(comm, "aries: restarting from '%s' after step %d (t = %g)%s\n", ckOpts.restart.c_str(),
+                          (int)st.step, st.time, st.step == simOpts.steps ? ": already at the last step, nothing to do" : ""));
+  }
+  // Every option is read by now except the output's own, which were read first: check before any file is written.
   if (strict) PetscCall(strictCheck());
+  io::RunOutput output;
+  PetscCall(output.setup(outOpts, ckOpts, *disc, resumeStep));
+  PetscCall(PetscLogStagePop());
 
   PetscMPIInt size;
   PetscCallMPI(MPI_Comm_size(comm, &size));

@@ -1,13 +1,15 @@
 #!/usr/bin/env python3
-"""Table-1-style rows for the volumetric scenes at the paper's sizes, beside the paper's numbers.
+"""Table 1 / Table 2 rows for the paper's scenes at the paper's sizes, beside the paper's numbers.
 
-usage: bench/scenes.py [--steps K] [--ranks N] [--build DIR] [--out FILE.md] [SCENE ...]
+usage: bench/scenes.py [--table 1|2] [--steps K] [--ranks N] [--build DIR] [--out FILE.md] [SCENE ...]
 
 Runs each scene's options file (options/*.yml, meshes generated on demand) with its paper-size mesh and writes a
-markdown table: elements, E, nu, dt, steps, Newton/step, PCG/step, s/step for aries and for the paper (Table 1;
-20-core 3.8 GHz i9, Eigen PCG + Jacobi). --steps K runs only the first K steps of each scene (the averages are then
-over those steps, stated in the table); without it every scene runs its full length (hours on 2 cores for the
-largest). Default output: bench/results/table1.md. Use /usr/bin/python3 (Debian's).
+markdown table. Table 1 (volumetric): elements, E, nu, dt, steps, Newton/step, PCG/step, s/step. Table 2 (cloth,
+32,768 triangles): model, stretch, shear, bending, steps, Newton/step, PCG/step, s/step; it also renders the final
+cloth states to PNG (bench/results/images/). Paper: 20-core 3.8 GHz i9, Eigen PCG + Jacobi. --steps K runs only the
+first K steps of each scene (the averages are then over those steps, stated in the table); without it every scene
+runs its full length (hours on 2 cores for the largest). Default output: bench/results/table<N>.md. Use
+/usr/bin/python3 (Debian's).
 """
 import argparse
 import csv
@@ -38,6 +40,28 @@ SCENES = {
     "octopus_stiff": ("octopus_stiff", [], ("octopus", "default"), (308200, 1e5, 0.0, 1e-2, 400, 1.0, 4980.3, 12.61)),
 }
 
+# Table 2: scene -> (options file, extra options, row label, paper row: stretch, shear, bending, steps, newton, pcg, s)
+CLOTH = {
+    "drop_iso": ("cloth_drop_iso", [], "isotropic drop, Eq. 49 (Lin 2022)", (40, 40, 1e-3, 1000, 1.3, 1270.2, 0.67)),
+    "drop_ours": ("cloth_drop_ours", [], "isotropic drop, Eq. 51/53 ours", (40, 80, 1e-3, 1000, 1.4, 1540.0, 0.81)),
+    "drop_bw": ("cloth_drop_bw", [], "isotropic drop, Eq. 45 (Kim 2020)", (40, 80, 1e-3, 1000, 1.4, 2830.0, 0.95)),
+    "drop_ours_aniso": ("cloth_drop_ours", ["-fiber2", "1,1"], "anisotropic drop, ours (b = [1,1])",
+                        (40, 80, 1e-3, 1000, 2.5, 3039.3, 1.31)),
+    "drop_bw_aniso": ("cloth_drop_bw", ["-fiber2", "1,1"], "anisotropic drop, Kim 2020 (b = [1,1])",
+                      (40, 80, 1e-3, 1000, 2.6, 5396.4, 1.73)),
+    "stretch_iso": ("cloth_stretch_iso", [], "isotropic stretch, Eq. 49 (Lin 2022)", (20, 20, 1e-3, 200, 1.1, 587.3, 0.56)),
+    "stretch_ours": ("cloth_stretch_ours", [], "isotropic stretch, Eq. 51/53 ours", (20, 30, 1e-3, 200, 1.6, 946.3, 0.65)),
+    "stretch_bw": ("cloth_stretch_bw", [], "isotropic stretch, Eq. 45 (Kim 2020)", (20, 30, 1e-3, 200, 3.0, 3504.5, 1.44)),
+    "stretch_ours_aniso20": ("cloth_stretch_ours", ["-mu2", "20", "-fiber2", "1,0", "-bending", "0"],
+                             "anisotropic stretch, ours (b = [1,0])", (20, 20, 0, 200, 2.3, 11451.3, 0.37)),
+    "stretch_ours_aniso80": ("cloth_stretch_ours", ["-mu2", "80", "-fiber", "1,0", "-fiber2", "1,3", "-bending", "0"],
+                             "anisotropic stretch, ours (a = [1,0], b = [1,3])", (20, 80, 0, 200, 2.3, 41532.4, 0.42)),
+    "stretch_bw_aniso20": ("cloth_stretch_bw", ["-mu2", "20", "-fiber2", "1,0", "-bending", "0"],
+                           "anisotropic stretch, Kim 2020 (b = [1,0])", (20, 20, 0, 200, 5.3, 5759.5, 1.08)),
+    "stretch_bw_aniso80": ("cloth_stretch_bw", ["-mu2", "80", "-fiber", "1,0", "-fiber2", "1,3", "-bending", "0"],
+                           "anisotropic stretch, Kim 2020 (a = [1,0], b = [1,3])", (20, 80, 0, 200, 3.7, 5451.1, 1.10)),
+}
+
 
 def generate(name, size):
     out = subprocess.run([os.path.join(ROOT, "meshes", "generate.sh"), name, size], capture_output=True, text=True)
@@ -46,79 +70,129 @@ def generate(name, size):
     return out.stdout.strip().splitlines()[-1]
 
 
-def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("scenes", nargs="*")
-    ap.add_argument("--steps", type=int, default=None)
-    ap.add_argument("--ranks", type=int, default=2)
-    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
-    ap.add_argument("--out", default=os.path.join(ROOT, "bench", "results", "table1.md"))
-    ap.add_argument("--work", default=os.path.join(ROOT, "out", "bench"))
-    a = ap.parse_args()
-    names = a.scenes or list(SCENES)
-    for n in names:
-        if n not in SCENES:
-            sys.exit("unknown scene %s (known: %s)" % (n, ", ".join(SCENES)))
-    env = dict(os.environ, OMPI_MCA_rmaps_base_oversubscribe="1", OMPI_MCA_mpi_yield_when_idle="1")
-    if os.geteuid() == 0:
-        env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-    rows = []
-    for n in names:
-        opts, extra, (mname, msize), paper = SCENES[n]
-        msh = generate(mname, msize)
-        with open(msh[:-4] + ".json") as fh:
-            elems = json.load(fh)["tets"]
-        work = os.path.join(a.work, n)
-        os.makedirs(work, exist_ok=True)
-        stats = os.path.join(work, "stats.csv")
-        args = ["-options_file", os.path.join(ROOT, "options", opts + ".yml"), "-dm_plex_filename", msh] + extra
-        if "fiber" in opts:
-            args += ["-fiber_file", msh[:-4] + ".fibers"]
-        args += ["-stats", stats, "-output", os.path.join(work, n), "-output_every", "1000000"]
-        if a.steps:
-            args += ["-steps", str(min(a.steps, paper[4])), "-bc_ramp_steps", str(paper[4])]
-        cmd = ["mpiexec", "-n", str(a.ranks), "--bind-to", "none", os.path.join(a.build, "aries")] + args
-        print("$ " + " ".join(cmd), flush=True)
-        p = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True)
-        with open(os.path.join(work, "log.txt"), "w") as fh:
-            fh.write(p.stdout + p.stderr)
-        summary = [l for l in (p.stdout + p.stderr).splitlines() if l.startswith("aries:")]
-        print("\n".join(summary[-3:]), flush=True)
-        with open(stats) as fh:
-            st = list(csv.DictReader(fh))
-        k = max(len(st), 1)
-        newton = sum(int(r["newton_its"]) for r in st) / k
-        pcg = sum(int(r["ksp_its"]) for r in st) / k
-        secs = sum(float(r["wall_s"]) for r in st) / k
-        E = re.search(r"^E:\s*(\S+)", open(os.path.join(ROOT, "options", opts + ".yml")).read(), re.M).group(1)
-        nu = extra[1] if extra else re.search(r"^nu:\s*(\S+)", open(os.path.join(ROOT, "options", opts + ".yml")).read(), re.M).group(1)
-        failed = sum(1 for r in st if r["reason"].startswith(("diverged", "safeguard")))
-        rows.append((n, elems, E, nu, paper, len(st), newton, pcg, secs, failed))
+def machine_line(ranks):
     cpu = "?"
     for line in open("/proc/cpuinfo"):
         if line.startswith("model name"):
             cpu = line.split(":", 1)[1].strip()
             break
-    out = ["# Table 1: volumetric scenes, aries vs the paper\n",
-           "Generated by `bench/scenes.py%s` on %s, %d MPI ranks on %s (%d cores); %s. Paper: 20-core 3.8 GHz i9, "
-           "Eigen PCG + diagonal preconditioner, same Newton tolerance (1e-2 L dt) and PCG tolerance (1e-6).\n"
-           % (" --steps %d" % a.steps if a.steps else "", datetime.date.today().isoformat(), a.ranks, cpu,
-              os.cpu_count(), platform.platform()),
-           "| scene | elements | E | nu | dt | steps run / total | Newton/step | PCG/step | s/step | failed steps | paper: elements | Newton/step | PCG/step | s/step |",
-           "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
-    for n, elems, E, nu, paper, steps, newton, pcg, secs, failed in rows:
-        out.append("| %s | %s | %s | %s | %g | %d / %d | %.2f | %.1f | %.3f | %d | %d | %.1f | %.1f | %.2f |"
-                   % (n, elems, E, nu, paper[3], steps, paper[4], newton, pcg, secs, failed, paper[0], paper[5],
-                      paper[6], paper[7]))
-    out.append("")
+    return "%d MPI ranks on %s (%d cores), %s" % (ranks, cpu, os.cpu_count(), platform.platform())
+
+
+def run_scene(a, env, name, opts, extra, msh, total_steps):
+    """Runs one scene; returns (stats rows, output base)."""
+    work = os.path.join(a.work, name)
+    os.makedirs(work, exist_ok=True)
+    stats = os.path.join(work, "stats.csv")
+    base = os.path.join(work, name)
+    args = ["-options_file", os.path.join(ROOT, "options", opts + ".yml"), "-dm_plex_filename", msh] + extra
+    if "fiber_file" in open(os.path.join(ROOT, "options", opts + ".yml")).read():
+        args += ["-fiber_file", msh[:-4] + ".fibers"]
+    args += ["-stats", stats, "-output", base, "-output_every", "1000000"]
     if a.steps:
-        out.append("Averages are over the first %d steps of each scene (the prescribed motion keeps its full-length "
-                   "ramp), not over the whole run.\n" % a.steps)
-    os.makedirs(os.path.dirname(a.out), exist_ok=True)
-    with open(a.out + ".tmp", "w") as fh:
-        fh.write("\n".join(out))
-    os.replace(a.out + ".tmp", a.out)
-    print("wrote " + a.out)
+        args += ["-steps", str(min(a.steps, total_steps)), "-bc_ramp_steps", str(total_steps)]
+    cmd = ["mpiexec", "-n", str(a.ranks), "--bind-to", "none", os.path.join(a.build, "aries")] + args
+    print("$ " + " ".join(cmd), flush=True)
+    p = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True)
+    with open(os.path.join(work, "log.txt"), "w") as fh:
+        fh.write(p.stdout + p.stderr)
+    summary = [l for l in (p.stdout + p.stderr).splitlines() if l.startswith("aries:")]
+    print("\n".join(summary[-3:]), flush=True)
+    with open(stats) as fh:
+        return list(csv.DictReader(fh)), base
+
+
+def averages(st):
+    k = max(len(st), 1)
+    return (sum(int(r["newton_its"]) for r in st) / k, sum(int(r["ksp_its"]) for r in st) / k,
+            sum(float(r["wall_s"]) for r in st) / k,
+            sum(1 for r in st if r["reason"].startswith(("diverged", "safeguard"))))
+
+
+def yml_value(opts, key, extra):
+    if "-" + key in extra:
+        return extra[extra.index("-" + key) + 1]
+    m = re.search(r"^%s:\s*(\S+)" % key, open(os.path.join(ROOT, "options", opts + ".yml")).read(), re.M)
+    return m.group(1) if m else "-"
+
+
+def write(path, lines):
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with open(path + ".tmp", "w") as fh:
+        fh.write("\n".join(lines))
+    os.replace(path + ".tmp", path)
+    print("wrote " + path)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("scenes", nargs="*")
+    ap.add_argument("--table", type=int, choices=[1, 2], default=1)
+    ap.add_argument("--steps", type=int, default=None)
+    ap.add_argument("--ranks", type=int, default=2)
+    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
+    ap.add_argument("--out", default=None)
+    ap.add_argument("--work", default=os.path.join(ROOT, "out", "bench"))
+    a = ap.parse_args()
+    catalog = SCENES if a.table == 1 else CLOTH
+    names = a.scenes or list(catalog)
+    for n in names:
+        if n not in catalog:
+            sys.exit("unknown scene %s for table %d (known: %s)" % (n, a.table, ", ".join(catalog)))
+    out_path = a.out or os.path.join(ROOT, "bench", "results", "table%d.md" % a.table)
+    env = dict(os.environ, OMPI_MCA_rmaps_base_oversubscribe="1", OMPI_MCA_mpi_yield_when_idle="1")
+    if os.geteuid() == 0:
+        env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    date = datetime.date.today().isoformat()
+    steps_note = (["Averages are over the first %d steps of each scene (prescribed motions keep their full-length ramp), "
+                   "not over the whole run.\n" % a.steps] if a.steps else [])
+    if a.table == 1:
+        out = ["# Table 1: volumetric scenes, aries vs the paper\n",
+               "Generated by `bench/scenes.py --table 1%s` on %s, %s. Paper: 20-core 3.8 GHz i9, Eigen PCG + "
+               "diagonal preconditioner, same Newton tolerance (1e-2 L dt) and PCG tolerance (1e-6). The scenes use "
+               "density 1000 kg/m^3 (inertia-dominated at dt = 1e-2: far fewer CG iterations than the paper's "
+               "stiffness-dominated runs; its density is not stated).\n"
+               % (" --steps %d" % a.steps if a.steps else "", date, machine_line(a.ranks)),
+               "| scene | elements | E | nu | dt | steps run / total | Newton/step | PCG/step | s/step | failed steps "
+               "| paper: elements | Newton/step | PCG/step | s/step |",
+               "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+        for n in names:
+            opts, extra, (mname, msize), paper = SCENES[n]
+            msh = generate(mname, msize)
+            with open(msh[:-4] + ".json") as fh:
+                elems = json.load(fh)["tets"]
+            st, _ = run_scene(a, env, n, opts, extra, msh, paper[4])
+            newton, pcg, secs, failed = averages(st)
+            out.append("| %s | %s | %s | %s | %g | %d / %d | %.2f | %.1f | %.3f | %d | %d | %.1f | %.1f | %.2f |"
+                       % (n, elems, yml_value(opts, "E", extra), yml_value(opts, "nu", extra), paper[3], len(st),
+                          paper[4], newton, pcg, secs, failed, paper[0], paper[5], paper[6], paper[7]))
+    else:
+        img = os.path.join(ROOT, "bench", "results", "images")
+        os.makedirs(img, exist_ok=True)
+        out = ["# Table 2: cloth (32,768 triangles, dt = 1e-2), aries vs the paper\n",
+               "Generated by `bench/scenes.py --table 2%s` on %s, %s. Areal density 0.1 kg/m^2, gravity 9.8; the "
+               "paper's bending is 1e-3 (0 for its anisotropic stretch rows). Snapshots of the final states: "
+               "`bench/results/images/cloth_<scene>.png`.\n" % (" --steps %d" % a.steps if a.steps else "", date,
+                                                                  machine_line(a.ranks)),
+               "| scene | model | stretch | shear | bending | steps run / total | Newton/step | PCG/step | s/step | "
+               "failed steps | paper: Newton/step | PCG/step | s/step |",
+               "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+        msh = generate("cloth", "default")
+        for n in names:
+            opts, extra, label, paper = CLOTH[n]
+            st, base = run_scene(a, env, n, opts, extra + ["-dm_plex_gmsh_spacedim", "3"], msh, paper[3])
+            newton, pcg, secs, failed = averages(st)
+            out.append("| %s | %s | %s | %s | %s | %d / %d | %.2f | %.1f | %.3f | %d | %.1f | %.1f | %.2f |"
+                       % (n, label, yml_value(opts, "mu1", extra),
+                          yml_value(opts, "mu1" if yml_value(opts, "energy", extra) == "bw46" else "mu2", extra),
+                          yml_value(opts, "bending", extra), len(st), paper[3], newton, pcg, secs, failed, paper[4],
+                          paper[5], paper[6]))
+            subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "scripts", "render_png.py"), base,
+                            os.path.join(img, "cloth_%s.png" % n), "--color", "displacement", "--view", "30,-60",
+                            "--title", "%s (step %d)" % (label, len(st))], check=False)
+    out.append("")
+    out += steps_note
+    write(out_path, out)
 
 
 if __name__ == "__main__":

@@ -9,7 +9,6 @@ acting, a baseline failing cleanly. Exit 0 = pass; a failure prints what was exp
 Needs Debian's python3-h5py and numpy (run with /usr/bin/python3).
 """
 import argparse
-import csv
 import glob
 import os
 import re
@@ -19,30 +18,21 @@ import sys
 import h5py
 import numpy as np
 
+from harness import aries_cmd, csv_rows, fail, mpi_env, step_file, test_mesh
+
 ARGS = None
 
 
-def fail(msg):
-    print("FAIL: " + msg)
-    sys.exit(1)
-
-
 def mesh(name):
-    out = subprocess.run([os.path.join(ARGS.root, "meshes", "generate.sh"), name, "test"], capture_output=True,
-                         text=True)
-    if out.returncode != 0:
-        fail("mesh generation failed: " + out.stderr[-2000:])
-    return out.stdout.strip().splitlines()[-1]
+    return test_mesh(ARGS.root, name)
 
 
 def run(args, ranks=None, expect_code=0, tag="run"):
     """Runs aries; returns (stdout+stderr, exit code). Fails unless the exit code is `expect_code`."""
     n = ranks or ARGS.ranks
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-               OMPI_MCA_rmaps_base_oversubscribe="1", OMPI_MCA_mpi_yield_when_idle="1")
-    cmd = ([ARGS.aries] if n == 1 else ["mpiexec", "-n", str(n), "--bind-to", "none", ARGS.aries]) + args
+    cmd = aries_cmd(ARGS.aries, n, args)
     print("$ " + " ".join(cmd), flush=True)
-    p = subprocess.run(cmd, capture_output=True, text=True, env=env, cwd=ARGS.work, timeout=900)
+    p = subprocess.run(cmd, capture_output=True, text=True, env=mpi_env(), cwd=ARGS.work, timeout=900)
     log = p.stdout + p.stderr
     with open(os.path.join(ARGS.work, tag + ".log"), "w") as fh:
         fh.write(log)
@@ -64,7 +54,7 @@ def read_state(base, step=None):
     files = sorted(glob.glob(os.path.join(d, n + ".steps", n + "_*.h5")))
     if not files:
         fail("no output steps for " + base)
-    path = files[-1] if step is None else os.path.join(d, n + ".steps", "%s_%06d.h5" % (n, step))
+    path = files[-1] if step is None else step_file(base, step)
     with h5py.File(path, "r") as f:
         x = f["/positions"][:]
         alpha = f["/cell/alpha"][:]
@@ -85,8 +75,7 @@ def shape_error(base, rigid):
 
 
 def stats(path):
-    with open(path) as fh:
-        rows = list(csv.DictReader(fh))
+    rows = csv_rows(path)
     if not rows:
         fail("empty stats " + path)
     return rows

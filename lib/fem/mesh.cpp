@@ -1,5 +1,6 @@
 #include "fem/mesh.hpp"
 
+#include "fem/gmsh_check.hpp"
 #include "fem/options.hpp"
 
 #include <metis.h>
@@ -100,27 +101,6 @@ PetscErrorCode setMetisPartition(DM dm, PetscPartitioner part) {
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode checkReadable(MPI_Comm comm, const std::string &file) {
-  PetscMPIInt rank;
-  int ok = 0;
-  PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (rank == 0) {
-    std::FILE *f = std::fopen(file.c_str(), "rb");
-    if (f) {
-      ok = 1;
-      std::fclose(f);
-    }
-  }
-  PetscCallMPI(MPI_Bcast(&ok, 1, MPI_INT, 0, comm));
-  if (!ok)
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN,
-            "mesh file '%s' (-dm_plex_filename) does not exist or is not readable; generate scene meshes with "
-            "meshes/generate.sh NAME",
-            file.c_str());
-  PetscFunctionReturn(0);
-}
-
 }  // namespace
 
 PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh) {
@@ -136,7 +116,7 @@ PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh) {
   if (partitioner != "metis" && partitioner != "ptscotch")
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -partitioner: '%s' is not metis|ptscotch",
             partitioner.c_str());
-  PetscCall(checkReadable(comm, mesh->filename));
+  PetscCall(validateGmshFile(comm, mesh->filename));
   PetscCall(readPhysicalNames(comm, mesh->filename, &mesh->physicalNames));
 
   // Without this PETSc 3.18 drops gmsh point groups (pinned vertex sets) instead of labelling them.

@@ -24,13 +24,15 @@ RunOutput::~RunOutput() {
   if (reactions_) std::fclose(reactions_);
 }
 
-PetscErrorCode RunOutput::setup(const OutputOptions &opts, const fem::Discretization &disc) {
+PetscErrorCode RunOutput::setup(const OutputOptions &opts, const CheckpointOptions &checkpoint,
+                                const fem::Discretization &disc, PetscInt resumeAfterStep) {
   PetscMPIInt rank;
   PetscFunctionBeginUser;
   opts_ = opts;
+  checkpoint_ = checkpoint;
   PetscCall(PetscObjectGetComm((PetscObject)disc.dm(), &comm_));
   PetscCallMPI(MPI_Comm_rank(comm_, &rank));
-  if (!opts.stats.empty()) PetscCall(stats_.open(comm_, opts.stats));
+  if (!opts.stats.empty()) PetscCall(stats_.open(comm_, opts.stats, resumeAfterStep));
   if (!opts.reactions.empty()) {
     if (rank == 0) {
       reactions_ = makeParentDirectory(opts.reactions) ? std::fopen(opts.reactions.c_str(), "w") : nullptr;
@@ -44,7 +46,7 @@ PetscErrorCode RunOutput::setup(const OutputOptions &opts, const fem::Discretiza
     std::vector<double> rest;
     PetscCall(disc.gatherTopology(&cells));
     PetscCall(disc.gatherRestPositions(&rest));
-    PetscCall(writer_.open(comm_, opts.output, cells, disc.verticesPerCell(), rest));
+    PetscCall(writer_.open(comm_, opts.output, cells, disc.verticesPerCell(), rest, resumeAfterStep));
   }
   PetscCall(PetscLogStageGetId("output", &outputStage_));
   if (outputStage_ < 0) PetscCall(PetscLogStageRegister("output", &outputStage_));
@@ -123,6 +125,11 @@ PetscErrorCode RunOutput::afterStep(const solver::Simulation &sim, const solver:
                         (int)rep.newton.linearIterations, st.minAlpha, rep.newton.residualNorm, rep.wallSeconds,
                         rep.reason.c_str(), halved.c_str()));
   if (rep.step % opts_.outputEvery == 0 || rep.stopping) PetscCall(writeState(sim, rep.step, rep.time));
+  if (checkpoint_.every > 0 && (rep.step % checkpoint_.every == 0 || rep.stopping)) {
+    PetscCall(PetscLogStagePush(outputStage_));
+    PetscCall(writeCheckpoint(sim, checkpoint_.path));
+    PetscCall(PetscLogStagePop());
+  }
   PetscFunctionReturn(0);
 }
 

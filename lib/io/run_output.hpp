@@ -2,6 +2,7 @@
 // HDF5/XDMF output (-output, -output_every). Implements the solver's StepObserver.
 #pragma once
 
+#include "io/checkpoint.hpp"
 #include "io/stats.hpp"
 #include "io/xdmf_writer.hpp"
 #include "solver/simulation.hpp"
@@ -22,7 +23,9 @@ PetscErrorCode readOutputOptions(OutputOptions *opts);
 class RunOutput final : public solver::StepObserver {
  public:
   ~RunOutput() override;
-  PetscErrorCode setup(const OutputOptions &opts, const fem::Discretization &disc);  // collective: opens files
+  // Collective: opens the files. resumeAfterStep >= 0 continues the stats and the XDMF index of a restarted run.
+  PetscErrorCode setup(const OutputOptions &opts, const CheckpointOptions &checkpoint,
+                       const fem::Discretization &disc, PetscInt resumeAfterStep = -1);
   PetscErrorCode initial(const solver::Simulation &sim) override;
   PetscErrorCode afterStep(const solver::Simulation &sim, const solver::StepReport &report) override;
 
@@ -30,6 +33,7 @@ class RunOutput final : public solver::StepObserver {
   PetscErrorCode writeState(const solver::Simulation &sim, PetscInt step, double time);
 
   OutputOptions opts_;
+  CheckpointOptions checkpoint_;
   MPI_Comm comm_ = MPI_COMM_NULL;
   XdmfWriter writer_;
   StatsWriter stats_;

@@ -3,24 +3,40 @@
 #include "fem/errors.hpp"
 #include "io/files.hpp"
 
+#include <cctype>
+#include <fstream>
+#include <vector>
+
 namespace aries::io {
 
 StatsWriter::~StatsWriter() {
   if (file_) std::fclose(file_);
 }
 
-PetscErrorCode StatsWriter::open(MPI_Comm comm, const std::string &path) {
+PetscErrorCode StatsWriter::open(MPI_Comm comm, const std::string &path, PetscInt resumeAfterStep) {
   PetscMPIInt rank;
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   bool bad = false;
   if (rank == 0) {
-    file_ = makeParentDirectory(path) ? std::fopen(path.c_str(), "w") : nullptr;
-    bad = !file_;
-    if (file_) {
-      std::fprintf(file_, "step,time,newton_its,ksp_its,wall_s,energy,min_alpha,max_disp,reason\n");
-      std::fflush(file_);
+    static const char header[] = "step,time,newton_its,ksp_its,wall_s,energy,min_alpha,max_disp,reason";
+    std::vector<std::string> keep;
+    if (resumeAfterStep >= 0) {  // keep the rows up to the restart step, in a complete new file
+      std::ifstream in(path);
+      std::string line;
+      while (std::getline(in, line))
+        if (!line.empty() && std::isdigit(static_cast<unsigned char>(line[0])) && std::stol(line) <= resumeAfterStep)
+          keep.push_back(line);
     }
+    const std::string tmp = path + ".tmp";
+    std::FILE *f = makeParentDirectory(path) ? std::fopen(tmp.c_str(), "w") : nullptr;
+    if (f) {
+      std::fprintf(f, "%s\n", header);
+      for (const auto &l : keep) std::fprintf(f, "%s\n", l.c_str());
+      bad = std::fclose(f) != 0 || std::rename(tmp.c_str(), path.c_str()) != 0;
+      file_ = bad ? nullptr : std::fopen(path.c_str(), "a");
+    }
+    bad = bad || !file_;
   }
   PetscCall(fem::collectiveCheck(comm, bad, "cannot open stats file '" + path + "' for writing (-stats)"));
   PetscFunctionReturn(0);

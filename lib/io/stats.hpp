@@ -20,7 +20,8 @@ struct StepStats {
 class StatsWriter {
  public:
   ~StatsWriter();
-  PetscErrorCode open(MPI_Comm comm, const std::string &path);  // collective
+  // Collective. With resumeAfterStep >= 0 (restart) the rows of later steps are dropped and new rows are appended.
+  PetscErrorCode open(MPI_Comm comm, const std::string &path, PetscInt resumeAfterStep = -1);
   PetscErrorCode append(const StepStats &s);                    // rank 0 writes
   bool isOpen() const { return file_ != nullptr; }
 

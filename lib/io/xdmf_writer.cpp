@@ -44,7 +44,7 @@ bool writeIntDataset(hid_t file, const char *path, const std::vector<PetscInt> &
 }  // namespace
 
 PetscErrorCode XdmfWriter::open(MPI_Comm comm, const std::string &base, const std::vector<PetscInt> &cells,
-                                int verticesPerCell, const std::vector<double> &rest) {
+                                int verticesPerCell, const std::vector<double> &rest, PetscInt resumeAfterStep) {
   PetscMPIInt rank;
   PetscFunctionBeginUser;
   comm_ = comm;
@@ -73,6 +73,26 @@ PetscErrorCode XdmfWriter::open(MPI_Comm comm, const std::string &base, const st
       if (!ok || std::rename(tmp.c_str(), (base + ".h5").c_str()) != 0)
         err = "cannot write '" + base + ".h5' (-output)";
     }
+    // Restart: keep the complete step files of the steps before the restart point in the index.
+    for (PetscInt k = 0; err.empty() && k <= resumeAfterStep; ++k) {
+      std::ostringstream fname;
+      fname << name_ << ".steps/" << name_ << "_" << std::setw(6) << std::setfill('0') << k << ".h5";
+      const std::string p = dir_ + "/" + fname.str();
+      std::FILE *probe = std::fopen(p.c_str(), "rb");
+      if (!probe) continue;
+      std::fclose(probe);
+      double time = 0.0;
+      hid_t f = H5Fopen(p.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+      if (f >= 0) {
+        if (H5Aexists(f, "time") > 0) {
+          hid_t a = H5Aopen(f, "time", H5P_DEFAULT);
+          H5Aread(a, H5T_NATIVE_DOUBLE, &time);
+          H5Aclose(a);
+        }
+        H5Fclose(f);
+        steps_.push_back({k, time, fname.str()});
+      }
+    }
   }
   PetscCall(fem::collectiveCheck(comm, !err.empty(), err));
   PetscFunctionReturn(0);
@@ -93,6 +113,13 @@ PetscErrorCode XdmfWriter::writeStep(PetscInt step, double time, const std::vect
     hid_t f = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
     bool ok = f >= 0 && writeDataset(f, "/positions", positions.data(), numVertices_, 3) &&
               writeDataset(f, "/displacement", disp.data(), numVertices_, 3);
+    if (ok) {  // the step's time, for restarts (the index is rebuilt from the step files)
+      hid_t space = H5Screate(H5S_SCALAR);
+      hid_t a = H5Acreate2(f, "time", H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT);
+      ok = a >= 0 && H5Awrite(a, H5T_NATIVE_DOUBLE, &time) >= 0;
+      if (a >= 0) H5Aclose(a);
+      H5Sclose(space);
+    }
     cellFieldLayout_.clear();
     for (const auto &cf : cellFields) {
       ok = ok && writeDataset(f, ("/cell/" + cf.name).c_str(), cf.values.data(), numCells_, cf.components);

@@ -23,8 +23,9 @@ struct CellField {
 class XdmfWriter {
  public:
   // Collective; `cells` (natural vertex ids, `verticesPerCell` each) and `rest` (x3) are only read on rank 0.
+  // With resumeAfterStep >= 0 (restart) the existing step files up to that step stay in the index.
   PetscErrorCode open(MPI_Comm comm, const std::string &base, const std::vector<PetscInt> &cells, int verticesPerCell,
-                      const std::vector<double> &rest);
+                      const std::vector<double> &rest, PetscInt resumeAfterStep = -1);
   // Rank 0 writes; collective only for the error check.
   PetscErrorCode writeStep(PetscInt step, double time, const std::vector<double> &positions,
                            const std::vector<CellField> &cellFields);

@@ -169,6 +169,29 @@ PetscErrorCode Simulation::applyInitialState() {
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode Simulation::resume(const std::vector<double> &positions, const std::vector<double> &velocities,
+                                  PetscInt completedStep, double time, double load) {
+  PetscFunctionBeginUser;
+  const int R = static_cast<int>(disc_->dofsPerVertex());
+  PetscInt lo;
+  PetscScalar *x, *v;
+  PetscCall(VecGetOwnershipRange(x_, &lo, nullptr));
+  PetscCall(VecGetArray(x_, &x));
+  PetscCall(VecGetArray(v_, &v));
+  disc_->forEachOwnedFreeVertex([&](PetscInt, PetscInt natural, PetscInt off, const Eigen::Vector3d &) {
+    for (int i = 0; i < R; ++i) {
+      x[off - lo + i] = positions[3 * static_cast<size_t>(natural) + i];
+      v[off - lo + i] = velocities[3 * static_cast<size_t>(natural) + i];
+    }
+  });
+  PetscCall(VecRestoreArray(x_, &x));
+  PetscCall(VecRestoreArray(v_, &v));
+  PetscCall(disc_->setLoad(load));
+  completedSteps_ = completedStep;
+  time_ = time;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode Simulation::localState(Vec xLocal) const {
   PetscFunctionBeginUser;
   PetscCall(DMGlobalToLocal(disc_->dm(), x_, INSERT_VALUES, xLocal));
@@ -253,6 +276,7 @@ PetscErrorCode Simulation::advance(double dt, double loadTarget, int depth, Newt
     PetscFunctionReturn(0);
   }
   if (opts_.onFailure == FailurePolicy::HalveDt && depth < opts_.maxStepHalvings) {
+    const std::string failed = *reason;
     PetscCall(VecCopy(xPrev_, x_));
     PetscCall(VecCopy(vPrev_, v_));
     PetscCall(disc_->setLoad(load0));
@@ -260,6 +284,8 @@ PetscErrorCode Simulation::advance(double dt, double loadTarget, int depth, Newt
     PetscCall(advance(0.5 * dt, mid, depth + 1, acc, ok, reason));
     if (*ok) PetscCall(advance(0.5 * dt, loadTarget, depth + 1, acc, ok, reason));
     if (dynamic) disc_->dynamics().dt = opts_.dt;
+    // The stats keep why the step was split: "<final reason>|halved:<failure>" (nested halvings keep the first).
+    if (reason->find("|halved:") == std::string::npos) *reason += "|halved:" + failed;
     PetscFunctionReturn(0);
   }
   if (opts_.onFailure == FailurePolicy::Continue) {
@@ -287,16 +313,19 @@ PetscErrorCode Simulation::run(StepObserver *observer, RunSummary *summary) {
   PetscCall(VecGetSize(x_, &summary->dofs));
   const PetscInt steps = opts_.steps;
   const PetscInt ramp = disc_->boundary().rampSteps > 0 ? disc_->boundary().rampSteps : steps;
-  if (observer) PetscCall(observer->initial(*this));
+  if (observer && completedSteps_ == 0) PetscCall(observer->initial(*this));
   double totalNewton = 0, totalLinear = 0, totalSeconds = 0;
-  for (PetscInt step = 1; step <= steps; ++step) {
+  const PetscInt first = completedSteps_ + 1;
+  for (PetscInt step = first; step <= steps; ++step) {
     const double t0 = MPI_Wtime();
     const double loadTarget = std::min(1.0, static_cast<double>(step) / static_cast<double>(ramp));
     StepReport rep;
     rep.step = step;
     rep.steps = steps;
-    rep.time = step * opts_.dt;
+    rep.time = time_ + opts_.dt;
     PetscCall(advance(opts_.dt, loadTarget, 0, &rep.newton, &rep.ok, &rep.reason));
+    time_ = rep.time;
+    completedSteps_ = step;
     rep.wallSeconds = MPI_Wtime() - t0;
     rep.stopping = step == steps || (!rep.ok && opts_.onFailure == FailurePolicy::Stop);
     totalNewton += rep.newton.newtonIterations;
@@ -312,7 +341,7 @@ PetscErrorCode Simulation::run(StepObserver *observer, RunSummary *summary) {
       break;
     }
   }
-  const double n = std::max<PetscInt>(1, summary->stepsDone);
+  const double n = std::max<PetscInt>(1, summary->stepsDone - first + 1);
   summary->avgNewton = totalNewton / n;
   summary->avgLinear = totalLinear / n;
   summary->avgSeconds = totalSeconds / n;

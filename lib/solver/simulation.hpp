@@ -73,6 +73,16 @@ class Simulation {
   const SimulationOptions &options() const { return opts_; }
   // Local copy of the state with the Dirichlet values filled (caller restores with DMRestoreLocalVector).
   PetscErrorCode localState(Vec xLocal) const;
+  // Velocities (global, free dofs; zero for static runs).
+  Vec velocity() const { return v_; }
+  PetscInt completedSteps() const { return completedSteps_; }
+  double time() const { return time_; }
+
+  // Continue from a saved state (checkpoint): positions and velocities of the free vertices by natural vertex id
+  // (3 values each, missing or Dirichlet vertices ignored), the last completed step, its time and the load
+  // parameter. Collective; the arrays are read on every rank.
+  PetscErrorCode resume(const std::vector<double> &positions, const std::vector<double> &velocities,
+                        PetscInt completedStep, double time, double load);
 
  private:
   PetscErrorCode applyInitialState();
@@ -84,6 +94,8 @@ class Simulation {
   NewtonSolver newton_;
   Vec x_ = nullptr, v_ = nullptr, xPrev_ = nullptr, vPrev_ = nullptr, xTilde_ = nullptr;
   PetscLogStage solveStage_ = -1;
+  PetscInt completedSteps_ = 0;
+  double time_ = 0.0;
   PetscInt loadSubsteps_ = 0;
 };
 

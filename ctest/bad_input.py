@@ -1,0 +1,157 @@
+#!/usr/bin/env python3
+"""Bad input must stop aries cleanly (registered with CTest by ctest/robustness.cmake).
+
+usage: bad_input.py CASE --aries BIN --root REPO --work DIR [--ranks N]
+       bad_input.py --list
+
+Each case writes a malformed input (or passes a bad option) and asserts: exit code 1, exactly one line on stderr,
+starting "aries: error:" and matching the case's pattern (it names the file/option and what is wrong), no traceback,
+and no output file (-output, -stats) left behind. Cases run on 1 or 2 ranks (--ranks).
+"""
+import argparse
+import os
+import re
+import shutil
+import subprocess
+
+from harness import aries_cmd, fail, mpi_env
+
+ARGS = None
+
+TET_MSH = """$MeshFormat
+2.2 0 8
+$EndMeshFormat
+$PhysicalNames
+2
+2 1 "bottom"
+3 1 "body"
+$EndPhysicalNames
+$Nodes
+5
+1 0 0 0
+2 1 0 0
+3 0 1 0
+4 0 0 1
+5 1 1 1
+$EndNodes
+$Elements
+3
+1 2 2 1 1 1 2 3
+2 4 2 1 1 1 2 3 4
+3 4 2 1 1 2 3 4 5
+$EndElements
+"""
+
+
+def write(name, text):
+    path = os.path.join(ARGS.work, name)
+    with open(path, "w") as fh:
+        fh.write(text)
+    return path
+
+
+def good_mesh():
+    return write("good.msh", TET_MSH)
+
+
+def fibers(n, vectors):
+    return "# test fibers\n%d\n%s\n" % (n, "\n".join(vectors))
+
+
+def case_defs():
+    w = ARGS.work
+    d = {}
+    d["missing_mesh"] = (lambda: ["-dm_plex_filename", os.path.join(w, "nope.msh")],
+                         r"mesh file '.*nope\.msh' \(-dm_plex_filename\) does not exist or is not readable")
+    d["mesh_is_directory"] = (lambda: ["-dm_plex_filename", w], r"mesh file '.*' \(-dm_plex_filename\) is not a regular file")
+    d["truncated_mesh"] = (lambda: ["-dm_plex_filename", write("trunc.msh", TET_MSH[: TET_MSH.index("$Elements") + 12])],
+                           r"trunc\.msh' line \d+: file ends inside \$Elements \(truncated\?\)")
+    d["wrong_node_count"] = (lambda: ["-dm_plex_filename", write("count.msh", TET_MSH.replace("$Nodes\n5\n", "$Nodes\n7\n"))],
+                             r"count\.msh' line \d+: \$Nodes declares 7 entries but ends after 5 \(wrong count\?\)")
+    d["unsupported_element"] = (lambda: ["-dm_plex_filename", write("hex.msh", TET_MSH.replace(
+        "3 4 2 1 1 2 3 4 5", "3 5 2 1 1 1 2 3 4 5 1 2 3"))],
+                                r"hex\.msh' line \d+: unsupported element type 5 \(8-node hexahedron\)")
+    d["not_gmsh"] = (lambda: ["-dm_plex_filename", write("junk.msh", "hello world\n")],
+                     r"junk\.msh' line 1: not a gmsh file: it does not start with \$MeshFormat")
+    d["degenerate_cell"] = (lambda: ["-dm_plex_filename", write("flat.msh", TET_MSH.replace("5 1 1 1", "5 1 1 0").replace(
+        "3 4 2 1 1 2 3 4 5", "3 4 2 1 1 2 3 5 1"))],
+                            r"cell 1 .*degenerate: rest volume")
+    d["inverted_cell"] = (lambda: ["-dm_plex_filename", write("inv.msh", TET_MSH.replace("3 4 2 1 1 2 3 4 5",
+                                                                                          "3 4 2 1 1 3 2 4 5"))],
+                          r"cell \d .*inverted: signed rest volume")
+    d["fiber_count"] = (lambda: ["-dm_plex_filename", good_mesh(), "-energy", "fiber", "-gamma", "1", "-fiber_file",
+                                 write("f3.txt", fibers(3, ["1 0 0"] * 3))],
+                        r"-fiber_file file '.*f3\.txt' declares 3 cells but the mesh has 2")
+    d["fiber_zero"] = (lambda: ["-dm_plex_filename", good_mesh(), "-energy", "fiber", "-gamma", "1", "-fiber_file",
+                                write("f0.txt", fibers(2, ["1 0 0", "0 0 0"]))],
+                       r"-fiber_file file '.*f0\.txt' line 4: zero-length vector for cell 1")
+    d["fiber_short"] = (lambda: ["-dm_plex_filename", good_mesh(), "-energy", "fiber", "-gamma", "1", "-fiber_file",
+                                 write("fs.txt", fibers(2, ["1 0 0"]))],
+                        r"-fiber_file file '.*fs\.txt' has 1 vectors for 2 cells")
+    d["unknown_energy"] = (lambda: ["-dm_plex_filename", good_mesh(), "-energy", "neohookean"],
+                           r"option -energy: unknown energy 'neohookean'")
+    d["unknown_singularity"] = (lambda: ["-dm_plex_filename", good_mesh(), "-singularity", "magic"],
+                                r"option -singularity: unknown mode 'magic'")
+    d["E_not_a_number"] = (lambda: ["-dm_plex_filename", good_mesh(), "-E", "1e4x"],
+                           r"option -E: '1e4x' is not a finite number")
+    d["E_nan"] = (lambda: ["-dm_plex_filename", good_mesh(), "-E", "nan"], r"option -E: 'nan' is not a finite number")
+    d["E_negative"] = (lambda: ["-dm_plex_filename", good_mesh(), "-E", "-5"], r"option -E: Young's modulus must be > 0")
+    d["nu_half"] = (lambda: ["-dm_plex_filename", good_mesh(), "-nu", "0.5"],
+                    r"option -nu: Poisson's ratio must be in \[0, 0\.5\)")
+    d["dt_negative"] = (lambda: ["-dm_plex_filename", good_mesh(), "-dt", "-1e-2"], r"option -dt must be > 0")
+    d["density_zero"] = (lambda: ["-dm_plex_filename", good_mesh(), "-density", "0"], r"option -density must be > 0")
+    d["unknown_bc_set"] = (lambda: ["-dm_plex_filename", good_mesh(), "-bc_clamp", "top"],
+                           r"option -bc_clamp: boundary set 'top' does not exist in mesh .*physical groups present")
+    d["strict_unknown_option"] = (lambda: ["-dm_plex_filename", good_mesh(), "-strict", "-gama", "3"],
+                                  r"-strict: unknown or unused option\(s\) -gama")
+    d["restart_garbage"] = (lambda: ["-dm_plex_filename", good_mesh(), "-restart", write("ck.h5", "not hdf5")],
+                            r"cannot open checkpoint '.*ck\.h5' \(-restart\)")
+    return d
+
+
+def run_case(name):
+    args, pattern = case_defs()[name]
+    outdir = os.path.join(ARGS.work, "out_" + name)
+    shutil.rmtree(outdir, ignore_errors=True)
+    full = args() + ["-output", os.path.join(outdir, "o"), "-stats", os.path.join(outdir, "stats.csv")]
+    cmd = aries_cmd(ARGS.aries, ARGS.ranks, full)
+    print("$ " + " ".join(cmd))
+    p = subprocess.run(cmd, capture_output=True, text=True, env=mpi_env(), cwd=ARGS.work, timeout=120)
+    err = [l for l in p.stderr.splitlines() if l.strip()]
+    print("exit %d; stderr:\n%s" % (p.returncode, "\n".join(err)))
+    if p.returncode != 1:
+        fail("exit code %d, expected 1" % p.returncode)
+    if len(err) != 1:
+        fail("expected exactly one line on stderr, got %d" % len(err))
+    if not err[0].startswith("aries: error: "):
+        fail("the line does not start with 'aries: error: '")
+    if not re.search(pattern, err[0]):
+        fail("the message does not match /%s/" % pattern)
+    if "PETSC ERROR" in p.stdout + p.stderr:
+        fail("a PETSc traceback was printed")
+    if os.path.exists(outdir) and any(files for _, _, files in os.walk(outdir)):
+        fail("output files were left behind: %s" % [f for _, _, fs in os.walk(outdir) for f in fs])
+
+
+def main():
+    global ARGS
+    ap = argparse.ArgumentParser()
+    ap.add_argument("case", nargs="?")
+    ap.add_argument("--aries")
+    ap.add_argument("--root")
+    ap.add_argument("--work", default="/tmp/aries-bad-input")
+    ap.add_argument("--ranks", type=int, default=1)
+    ap.add_argument("--list", action="store_true")
+    ARGS = ap.parse_args()
+    if ARGS.list:
+        print(";".join(case_defs()))
+        return
+    os.makedirs(ARGS.work, exist_ok=True)
+    if ARGS.case not in case_defs():
+        fail("unknown case %s" % ARGS.case)
+    run_case(ARGS.case)
+    print("PASS")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,27 @@
+# Robustness (issue 7): bad input (one error line, exit 1, no output files; 1 and 2 ranks), kill and restart,
+# failure policies, determinism. The bad-input cases are listed by ctest/bad_input.py itself.
+execute_process(COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/ctest/bad_input.py --list
+                OUTPUT_VARIABLE ARIES_BAD_INPUT_CASES OUTPUT_STRIP_TRAILING_WHITESPACE)
+# Every case on one rank; a representative subset on two (the collective error path is shared by all cases).
+set(ARIES_BAD_INPUT_NP2 missing_mesh truncated_mesh degenerate_cell fiber_count unknown_bc_set strict_unknown_option)
+foreach(case ${ARIES_BAD_INPUT_CASES})
+  set(ranks_list 1)
+  if(case IN_LIST ARIES_BAD_INPUT_NP2)
+    list(APPEND ranks_list 2)
+  endif()
+  foreach(ranks ${ranks_list})
+    add_test(NAME robustness.bad_input.${case}.np${ranks}
+             COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/ctest/bad_input.py ${case} --aries $<TARGET_FILE:aries-app>
+                     --root ${CMAKE_SOURCE_DIR} --work ${CMAKE_BINARY_DIR}/robustness/bad_input.np${ranks} --ranks ${ranks})
+    set_tests_properties(robustness.bad_input.${case}.np${ranks} PROPERTIES LABELS "robustness" PROCESSORS ${ranks}
+                         TIMEOUT 120 FAIL_REGULAR_EXPRESSION "FAIL:")
+  endforeach()
+endforeach()
+
+foreach(case kill_restart failure_policy determinism)
+  add_test(NAME robustness.${case}
+           COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/ctest/robustness.py ${case} --aries $<TARGET_FILE:aries-app>
+                   --root ${CMAKE_SOURCE_DIR} --work ${CMAKE_BINARY_DIR}/robustness/${case})
+  set_tests_properties(robustness.${case} PROPERTIES LABELS "robustness" FIXTURES_REQUIRED aries_meshes
+                       PROCESSORS 2 TIMEOUT 600 FAIL_REGULAR_EXPRESSION "FAIL:")
+endforeach()

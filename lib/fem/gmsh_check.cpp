@@ -1,0 +1,255 @@
+#include "fem/gmsh_check.hpp"
+
+#include "fem/errors.hpp"
+
+#include <sys/stat.h>
+
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <unordered_set>
+#include <vector>
+#include <cstdlib>
+
+namespace aries::fem {
+
+namespace {
+
+// Element types aries can read: gmsh 1 = 2-node line, 2 = 3-node triangle, 4 = 4-node tetrahedron, 15 = point.
+int nodesOfType(int type) {
+  switch (type) {
+    case 1: return 2;
+    case 2: return 3;
+    case 4: return 4;
+    case 15: return 1;
+    default: return -1;
+  }
+}
+
+const char *typeName(int type) {
+  switch (type) {
+    case 3: return "4-node quadrangle";
+    case 5: return "8-node hexahedron";
+    case 6: return "6-node prism";
+    case 7: return "5-node pyramid";
+    case 8: return "3-node second-order line";
+    case 9: return "6-node second-order triangle";
+    case 11: return "10-node second-order tetrahedron";
+    default: return "element";
+  }
+}
+
+class Reader {
+ public:
+  Reader(std::istream &in, std::string file) : in_(in), file_(std::move(file)) {}
+  bool line(std::string *out) {
+    while (std::getline(in_, *out)) {
+      ++lineNo_;
+      if (!out->empty() && out->back() == '\r') out->pop_back();
+      return true;
+    }
+    return false;
+  }
+  // Reads the next line and splits it into numbers; false (and an error) at end of file.
+  bool numbers(std::vector<double> *v, const char *what, long declared = -1, long index = -1) {
+    std::string l;
+    if (!line(&l)) return fail(std::string("file ends inside ") + what + " (truncated?)");
+    if (!l.empty() && l[0] == '$') {
+      if (declared >= 0)
+        return fail(std::string(what) + " declares " + std::to_string(declared) + " entries but ends after " +
+                    std::to_string(index) + " (wrong count?)");
+      return fail(std::string(what) + " ends early at " + l);
+    }
+    v->clear();
+    std::istringstream s(l);
+    std::string tok;
+    while (s >> tok) {
+      char *end = nullptr;
+      const double x = std::strtod(tok.c_str(), &end);
+      if (end == tok.c_str() || *end != '\0') return fail("'" + tok + "' is not a number in " + what);
+      v->push_back(x);
+    }
+    return true;
+  }
+  bool expect(const std::string &marker) {
+    std::string l;
+    if (!line(&l)) return fail("file ends before " + marker + " (truncated?)");
+    if (l != marker) return fail("expected " + marker + ", found '" + l.substr(0, 40) + "'");
+    return true;
+  }
+  bool fail(const std::string &msg) {
+    if (error_.empty()) {
+      std::ostringstream o;
+      o << "mesh file '" << file_ << "' line " << lineNo_ << ": " << msg;
+      error_ = o.str();
+    }
+    return false;
+  }
+  const std::string &error() const { return error_; }
+
+ private:
+  std::istream &in_;
+  std::string file_, error_;
+  long lineNo_ = 0;
+};
+
+bool checkElementType(Reader &r, int type) {
+  if (nodesOfType(type) > 0) return true;
+  std::ostringstream o;
+  o << "unsupported element type " << type << " (" << typeName(type)
+    << "); aries reads linear tetrahedra and triangles (with lines and points for boundary groups)";
+  return r.fail(o.str());
+}
+
+// One parser per section and format version; they record the node tags so elements can be checked against them.
+using SectionParser = bool (*)(Reader &r, std::unordered_set<long> *nodes);
+
+bool nodes2(Reader &r, std::unordered_set<long> *nodes) {
+  std::vector<double> v;
+  if (!r.numbers(&v, "$Nodes") || v.size() != 1) return r.fail("expected the number of nodes after $Nodes");
+  const long n = static_cast<long>(v[0]);
+  for (long i = 0; i < n; ++i) {
+    if (!r.numbers(&v, "$Nodes", n, i)) return false;
+    if (v.size() != 4) return r.fail("a node line needs 4 numbers (id x y z)");
+    if (!nodes->insert(static_cast<long>(v[0])).second)
+      return r.fail("node " + std::to_string((long)v[0]) + " is defined twice");
+  }
+  if (!r.expect("$EndNodes")) return r.fail("$Nodes declares " + std::to_string(n) + " nodes but has more or fewer");
+  return true;
+}
+
+bool elements2(Reader &r, std::unordered_set<long> *nodes) {
+  std::vector<double> v;
+  if (!r.numbers(&v, "$Elements") || v.size() != 1) return r.fail("expected the number of elements after $Elements");
+  const long n = static_cast<long>(v[0]);
+  for (long i = 0; i < n; ++i) {
+    if (!r.numbers(&v, "$Elements", n, i)) return false;
+    if (v.size() < 3) return r.fail("an element line needs id, type, number of tags, tags and nodes");
+    const int type = static_cast<int>(v[1]), ntags = static_cast<int>(v[2]);
+    if (!checkElementType(r, type)) return false;
+    const size_t expected = 3 + ntags + nodesOfType(type);
+    if (v.size() != expected)
+      return r.fail("element " + std::to_string((long)v[0]) + " has " + std::to_string(v.size()) +
+                    " numbers, expected " + std::to_string(expected));
+    for (size_t k = 3 + ntags; k < v.size(); ++k)
+      if (!nodes->count(static_cast<long>(v[k])))
+        return r.fail("element " + std::to_string((long)v[0]) + " uses node " + std::to_string((long)v[k]) +
+                      ", which is not defined");
+  }
+  if (!r.expect("$EndElements"))
+    return r.fail("$Elements declares " + std::to_string(n) + " elements but has more or fewer");
+  return true;
+}
+
+bool nodes4(Reader &r, std::unordered_set<long> *nodes) {
+  std::vector<double> v;
+  if (!r.numbers(&v, "$Nodes") || v.size() != 4) return r.fail("expected 'numBlocks numNodes minTag maxTag' after $Nodes");
+  const long blocks = static_cast<long>(v[0]), total = static_cast<long>(v[1]);
+  long seen = 0;
+  for (long b = 0; b < blocks; ++b) {
+    if (!r.numbers(&v, "$Nodes") || v.size() != 4) return r.fail("expected a node block header (dim tag parametric count)");
+    if (v[2] != 0) return r.fail("parametric node coordinates are not supported");
+    const long n = static_cast<long>(v[3]);
+    std::vector<long> tags;
+    for (long i = 0; i < n; ++i) {
+      if (!r.numbers(&v, "$Nodes") || v.size() != 1) return r.fail("expected a node tag");
+      tags.push_back(static_cast<long>(v[0]));
+    }
+    for (long i = 0; i < n; ++i)
+      if (!r.numbers(&v, "$Nodes") || v.size() != 3) return r.fail("expected x y z of a node");
+    for (long t : tags) nodes->insert(t);
+    seen += n;
+  }
+  if (seen != total) return r.fail("$Nodes declares " + std::to_string(total) + " nodes but its blocks have " + std::to_string(seen));
+  return r.expect("$EndNodes");
+}
+
+bool elements4(Reader &r, std::unordered_set<long> *nodes) {
+  std::vector<double> v;
+  if (!r.numbers(&v, "$Elements") || v.size() != 4) return r.fail("expected 'numBlocks numElements minTag maxTag' after $Elements");
+  const long blocks = static_cast<long>(v[0]), total = static_cast<long>(v[1]);
+  long seen = 0;
+  for (long b = 0; b < blocks; ++b) {
+    if (!r.numbers(&v, "$Elements") || v.size() != 4) return r.fail("expected an element block header (dim tag type count)");
+    const int type = static_cast<int>(v[2]);
+    if (!checkElementType(r, type)) return false;
+    const long n = static_cast<long>(v[3]);
+    for (long i = 0; i < n; ++i) {
+      if (!r.numbers(&v, "$Elements")) return false;
+      if (v.size() != static_cast<size_t>(1 + nodesOfType(type))) return r.fail("element line with a wrong number of nodes");
+      for (size_t k = 1; k < v.size(); ++k)
+        if (!nodes->count(static_cast<long>(v[k]))) return r.fail("element uses undefined node " + std::to_string((long)v[k]));
+    }
+    seen += n;
+  }
+  if (seen != total)
+    return r.fail("$Elements declares " + std::to_string(total) + " elements but its blocks have " + std::to_string(seen));
+  return r.expect("$EndElements");
+}
+
+// Other sections ($PhysicalNames, $Entities, ...) are skipped line by line; PETSc reads them.
+bool validateSections(Reader &r, SectionParser parseNodes, SectionParser parseElements) {
+  std::string l;
+  std::unordered_set<long> nodes;
+  bool sawNodes = false, sawElements = false;
+  while (r.line(&l)) {
+    if (l == "$Nodes") {
+      if (!parseNodes(r, &nodes)) return false;
+      sawNodes = true;
+    } else if (l == "$Elements") {
+      if (!sawNodes) return r.fail("$Elements before $Nodes");
+      if (!parseElements(r, &nodes)) return false;
+      sawElements = true;
+    }
+  }
+  if (!sawNodes) return r.fail("no $Nodes section");
+  if (!sawElements) return r.fail("no $Elements section");
+  return true;
+}
+
+std::string validateFile(const std::string &file) {
+  struct stat st;
+  if (stat(file.c_str(), &st) != 0)
+    return "mesh file '" + file + "' (-dm_plex_filename) does not exist or is not readable; generate scene meshes with "
+           "meshes/generate.sh NAME";
+  if (!S_ISREG(st.st_mode)) return "mesh file '" + file + "' (-dm_plex_filename) is not a regular file";
+  const auto dot = file.find_last_of('.');
+  if (dot == std::string::npos || file.substr(dot) != ".msh")
+    return "mesh file '" + file + "' (-dm_plex_filename) must be a gmsh file with the extension .msh";
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return "mesh file '" + file + "' (-dm_plex_filename) is not readable";
+  Reader r(in, file);
+  std::string l;
+  if (!r.line(&l) || l != "$MeshFormat") {
+    r.fail("not a gmsh file: it does not start with $MeshFormat");
+    return r.error();
+  }
+  std::vector<double> v;
+  if (!r.numbers(&v, "$MeshFormat") || v.size() != 3) {
+    r.fail("expected 'version file-type data-size' after $MeshFormat");
+    return r.error();
+  }
+  const double version = v[0];
+  const int fileType = static_cast<int>(v[1]);
+  if (!(version >= 2.0 && version < 3.0) && !(version >= 4.0 && version < 5.0)) {
+    r.fail("unsupported gmsh format version " + std::to_string(version) + " (2.x and 4.x are supported)");
+    return r.error();
+  }
+  if (fileType != 0) return {};  // binary: left to PETSc's reader
+  if (!r.expect("$EndMeshFormat")) return r.error();
+  const bool ok = version < 3.0 ? validateSections(r, nodes2, elements2) : validateSections(r, nodes4, elements4);
+  return ok ? std::string() : r.error();
+}
+
+}  // namespace
+
+PetscErrorCode validateGmshFile(MPI_Comm comm, const std::string &file) {
+  PetscMPIInt rank;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  const std::string err = rank == 0 ? validateFile(file) : std::string();
+  PetscCall(collectiveCheck(comm, !err.empty(), err));
+  PetscFunctionReturn(0);
+}
+
+}  // namespace aries::fem

@@ -1,0 +1,17 @@
+// Structural check of a gmsh file before PETSc reads it, so a malformed file gets one message naming the file, the
+// line and what is wrong instead of a reader traceback: regular file with the .msh extension, $MeshFormat 2.x or
+// 4.x, for ASCII files the $Nodes/$Elements counts and line shapes, defined node references, and supported element
+// types (linear tetrahedra and triangles, lines and points for boundary groups). Binary files are checked only
+// through their header.
+#pragma once
+
+#include <petscsys.h>
+
+#include <string>
+
+namespace aries::fem {
+
+// Collective: rank 0 reads the file; every rank raises the same PETSC_ERR_USER_INPUT on a problem.
+PetscErrorCode validateGmshFile(MPI_Comm comm, const std::string &file);
+
+}  // namespace aries::fem

@@ -1,0 +1,34 @@
+// Checkpoint / restart (-checkpoint_every K, -checkpoint FILE, -restart FILE).
+// A checkpoint is one HDF5 file with the full state in natural (gmsh) vertex order: /positions and /velocities
+// (vertices x 3), and the attributes step, time, load (parameter of the prescribed motion), num_vertices, num_cells,
+// format. It is written under a temporary name and renamed when complete, so a run killed at any moment leaves the
+// previous checkpoint intact. Natural ordering makes a checkpoint restartable on any number of ranks.
+#pragma once
+
+#include "solver/simulation.hpp"
+
+#include <string>
+#include <vector>
+
+namespace aries::io {
+
+struct CheckpointOptions {
+  std::string path;      // where checkpoints go (default DIR/NAME.checkpoint.h5 with -output, else checkpoint.h5)
+  PetscInt every = 0;    // 0: no checkpoints
+  std::string restart;   // checkpoint to continue from
+};
+
+PetscErrorCode readCheckpointOptions(const std::string &outputBase, CheckpointOptions *opts);
+
+struct CheckpointState {
+  std::vector<double> positions, velocities;  // natural order, x3
+  PetscInt step = 0;
+  double time = 0.0, load = 0.0;
+};
+
+// Collective: gathers the state on rank 0 and writes it atomically.
+PetscErrorCode writeCheckpoint(const solver::Simulation &sim, const std::string &path);
+// Collective: rank 0 reads and validates against the mesh, every rank receives the state.
+PetscErrorCode readCheckpoint(const fem::Mesh &mesh, const std::string &path, CheckpointState *state);
+
+}  // namespace aries::io
