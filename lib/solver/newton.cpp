@@ -3,6 +3,7 @@
 #include "fem/options.hpp"
 
 #include <cmath>
+#include <string>
 
 namespace aries::solver {
 
@@ -135,6 +136,33 @@ PetscErrorCode NewtonSolver::convergenceTest(SNES snes, PetscInt it, PetscReal x
   PetscFunctionReturn(0);
 }
 
+// Rigid-body modes of the rest configuration as the Jacobian's near-nullspace (-near_nullspace rigid, the default):
+// algebraic multigrid (-pc_type gamg) builds its coarse spaces from them; other preconditioners ignore them.
+PetscErrorCode NewtonSolver::attachNearNullSpace() {
+  std::string mode = "rigid";
+  PetscBool set;
+  PetscFunctionBeginUser;
+  PetscCall(fem::optionString(nullptr, "-near_nullspace", &mode, &set));
+  if (mode == "none") PetscFunctionReturn(0);
+  if (mode != "rigid")
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -near_nullspace: '%s' is not rigid|none", mode.c_str());
+  const PetscInt bs = disc_->dofsPerVertex();
+  PetscInt n;
+  PetscCall(VecGetLocalSize(work_, &n));
+  Vec coords;
+  PetscCall(VecCreateMPI(PetscObjectComm((PetscObject)work_), n, PETSC_DETERMINE, &coords));
+  PetscCall(VecSetBlockSize(coords, bs));
+  PetscCall(VecSetUp(coords));
+  PetscCall(disc_->restPositions(work_));
+  PetscCall(VecCopy(work_, coords));
+  MatNullSpace nsp;
+  PetscCall(MatNullSpaceCreateRigidBody(coords, &nsp));
+  PetscCall(MatSetNearNullSpace(J_, nsp));
+  PetscCall(MatNullSpaceDestroy(&nsp));
+  PetscCall(VecDestroy(&coords));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode NewtonSolver::setup(fem::Discretization &disc, bool dynamic, double dt) {
   MPI_Comm comm;
   PetscFunctionBeginUser;
@@ -161,11 +189,15 @@ PetscErrorCode NewtonSolver::setup(fem::Discretization &disc, bool dynamic, doub
   PetscCall(DMSNESSetFunctionLocal(dm, functionLocal, this));
   PetscCall(DMSNESSetJacobianLocal(dm, jacobianLocal, this));
   PetscCall(SNESSetObjective(snes_, objectiveCallback, this));
+  std::string matType;  // the discretization asks for BAIJ (bs = dofs per vertex); GAMG in PETSc 3.18 needs AIJ
+  PetscCall(fem::optionString(nullptr, "-dm_mat_type", &matType, &set));
+  if (set) PetscCall(DMSetMatType(dm, matType.c_str()));
   PetscCall(DMCreateMatrix(dm, &J_));
   PetscCall(MatSetOption(J_, MAT_SYMMETRIC, PETSC_TRUE));
   if (disc.couplesBeyondCells()) PetscCall(MatSetOption(J_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
   PetscCall(SNESSetJacobian(snes_, J_, J_, nullptr, nullptr));
   PetscCall(DMCreateGlobalVector(dm, &work_));
+  PetscCall(attachNearNullSpace());
 
   // Defaults (overridable by -snes_*, -ksp_*, -pc_*).
   // stol = 0: a step shortened by the alpha safeguard must not read as convergence (the paper's criterion is

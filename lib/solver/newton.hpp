@@ -6,6 +6,7 @@
 //    pre-check covers bt/basic/l2/cp, the post-check catches line searches that extrapolate (lambda > 1);
 //  * convergence when the inf-norm of the full Newton step is below -newton_tol * L (* dt for dynamics), L the
 //    rest bounding-box diagonal (paper Sec. 6), or on PETSc's usual criteria.
+//  * the rigid-body modes of the rest shape as the Jacobian's near-nullspace (-near_nullspace rigid|none), for GAMG.
 // Every default is a PETSc option and can be overridden (-snes_*, -ksp_*, -pc_*, -snes_linesearch_*).
 #pragma once
 
@@ -43,6 +44,7 @@ class NewtonSolver {
   PetscInt totalHalvings() const { return halvingsTotal_; }
 
  private:
+  PetscErrorCode attachNearNullSpace();
   static PetscErrorCode objectiveCallback(SNES, Vec, PetscReal *, void *);
   static PetscErrorCode boundaryLocal(DM, Vec, void *);
   static PetscErrorCode functionLocal(DM, Vec, Vec, void *);

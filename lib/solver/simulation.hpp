@@ -16,7 +16,7 @@
 namespace aries::solver {
 
 enum class Integrator { Static, BackwardEuler };
-enum class InitialState { Rest, Scramble, Invert, Tutte };
+enum class InitialState { Rest, Scramble, Invert, Tutte, CollapsePlane, CollapseLine, CollapsePoint };
 enum class FailurePolicy { Stop, HalveDt, Continue };
 
 struct SimulationOptions {
