@@ -32,11 +32,17 @@ def main():
     path = steps[-1] if a.step is None else os.path.join(d, n + ".steps", "%s_%06d.h5" % (n, a.step))
     with h5py.File(path, "r") as f:
         x = f["/positions"][:]
+    err_max, err_rms = shape_error(rest, x, a.rigid)
+    print("max_over_L %.6e rms_over_L %.6e step_file %s" % (err_max, err_rms, path))
+
+
+def shape_error(rest, x, rigid=False):
+    """(max, RMS) vertex distance of positions x to rest (n x 3 arrays) over L, the rest bounding-box diagonal; with
+    rigid=True x is first aligned to rest by the best rotation and translation (Kabsch). NaN if x is not finite."""
     if not np.all(np.isfinite(x)):
-        print("max_over_L nan rms_over_L nan step_file %s" % path)
-        return
+        return float("nan"), float("nan")
     L = np.linalg.norm(rest.max(0) - rest.min(0))
-    if a.rigid:
+    if rigid:
         cr, cx = rest.mean(0), x.mean(0)
         H = (x - cx).T @ (rest - cr)
         U, _, Vt = np.linalg.svd(H)
@@ -44,7 +50,7 @@ def main():
         Rm = Vt.T @ D @ U.T
         x = (Rm @ (x - cx).T).T + cr
     dist = np.linalg.norm(x - rest, axis=1)
-    print("max_over_L %.6e rms_over_L %.6e step_file %s" % (dist.max() / L, np.sqrt((dist**2).mean()) / L, path))
+    return dist.max() / L, np.sqrt((dist**2).mean()) / L
 
 
 if __name__ == "__main__":
