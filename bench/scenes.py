@@ -38,6 +38,15 @@ SCENES = {
     "octopus_iso": ("octopus_iso", [], ("octopus", "default"), (308200, 1e3, 0.0, 1e-2, 400, 3.5, 1738.9, 8.54)),
     "octopus_fiber": ("octopus_fiber", [], ("octopus", "default"), (308200, 1e3, 0.0, 1e-2, 400, 3.8, 24010.2, 53.02)),
     "octopus_stiff": ("octopus_stiff", [], ("octopus", "default"), (308200, 1e5, 0.0, 1e-2, 400, 1.0, 4980.3, 12.61)),
+    # Active materials (Sec. 5.3, 6). The paper's Fig. 13 uses a 200,739-hex face; we use the tet bunny (the paper
+    # row is beside ours for scale only). Static rows: the dt column is the scene's time increment. Paper values
+    # from Table 1 (Fig. 13 interp: 3.3 Newton, 77,701.5 PCG, 1,026.22 s; Fig. 15(b)/(c): 25 / 67 Newton,
+    # 85,179 / 269,221 PCG, 219.69 / 685.93 s, one static solve each).
+    "bunny_guided": ("bunny_guided", [], ("bunny", "default"), (200739, 1e2, 0.4, 0.05, 20, 3.3, 77701.5, 1026.22)),
+    "bunny_interact": ("bunny_interact", [], ("bunny", "default"), (200739, 1e2, 0.4, 1e-2, 200, 1.0, 745.9, 68.04)),
+    "bunny_caricature": ("bunny_caricature", [], ("bunny", "fig15"), (292476, 1e2, 0.0, 1, 1, 25, 85179, 219.69)),
+    "armadillo_caricature": ("armadillo_caricature", [], ("armadillo", "fig15"),
+                             (292476, 1e2, 0.0, 1, 1, 67, 269221, 685.93)),
 }
 
 # Table 2: scene -> (options file, extra options, row label, paper row: stretch, shear, bending, steps, newton, pcg, s)
@@ -60,6 +69,16 @@ CLOTH = {
                            "anisotropic stretch, Kim 2020 (b = [1,0])", (20, 20, 0, 200, 5.3, 5759.5, 1.08)),
     "stretch_bw_aniso80": ("cloth_stretch_bw", ["-mu2", "80", "-fiber", "1,0", "-fiber2", "1,3", "-bending", "0"],
                            "anisotropic stretch, Kim 2020 (a = [1,0], b = [1,3])", (20, 80, 0, 200, 3.7, 5451.1, 1.10)),
+}
+
+
+# Table 1 scenes rendered to bench/results/images/<scene>_{rest,final}.png: (output step to draw, -output_every);
+# step None = the last one.
+RENDER = {
+    "bunny_guided": (10, 5),            # t = 0.5: ears grown, body squashed
+    "bunny_interact": (100, 50),        # handles fully pushed in
+    "bunny_caricature": (None, 1000000),
+    "armadillo_caricature": (None, 1000000),
 }
 
 
@@ -86,9 +105,12 @@ def run_scene(a, env, name, opts, extra, msh, total_steps):
     stats = os.path.join(work, "stats.csv")
     base = os.path.join(work, name)
     args = ["-options_file", os.path.join(ROOT, "options", opts + ".yml"), "-dm_plex_filename", msh] + extra
-    if "fiber_file" in open(os.path.join(ROOT, "options", opts + ".yml")).read():
+    text = open(os.path.join(ROOT, "options", opts + ".yml")).read()
+    if "fiber_file" in text:
         args += ["-fiber_file", msh[:-4] + ".fibers"]
-    args += ["-stats", stats, "-output", base, "-output_every", "1000000"]
+    if "target_file" in text:
+        args += ["-target_file", msh[:-4] + ".targets"]
+    args += ["-stats", stats, "-output", base, "-output_every", str(RENDER.get(name, (None, 1000000))[1])]
     if a.steps:
         args += ["-steps", str(min(a.steps, total_steps)), "-bc_ramp_steps", str(total_steps)]
     cmd = ["mpiexec", "-n", str(a.ranks), "--bind-to", "none", os.path.join(a.build, "aries")] + args
@@ -161,10 +183,23 @@ def main():
             msh = generate(mname, msize)
             with open(msh[:-4] + ".json") as fh:
                 elems = json.load(fh)["tets"]
-            st, _ = run_scene(a, env, n, opts, extra, msh, paper[4])
+            st, base = run_scene(a, env, n, opts, extra, msh, paper[4])
             newton, pcg, secs, failed = averages(st)
-            out.append("| %s | %s | %s | %s | %g | %d / %d | %.2f | %.1f | %.3f | %d | %d | %.1f | %.1f | %.2f |"
-                       % (n, elems, yml_value(opts, "E", extra), yml_value(opts, "nu", extra), paper[3], len(st),
+            if n in RENDER:
+                step = RENDER[n][0]
+                step = step if step is not None and step <= len(st) else None
+                img = os.path.join(ROOT, "bench", "results", "images")
+                os.makedirs(img, exist_ok=True)
+                for k, tag in ((0, "rest"), (step, "final")):
+                    cmd = ["/usr/bin/python3", os.path.join(ROOT, "scripts", "render_png.py"), base,
+                           os.path.join(img, "%s_%s.png" % (n, tag)), "--color", "displacement", "--view", "15,-120",
+                           "--title", "%s (%s)" % (n, "rest" if k == 0 else "step %s" % (k or len(st)))]
+                    if k is not None:
+                        cmd += ["--step", str(k)]
+                    subprocess.run(cmd, check=False)
+            dt = paper[3] if yml_value(opts, "integrator", extra) == "beuler" else "static, %g" % paper[3]
+            out.append("| %s | %s | %s | %s | %s | %d / %d | %.2f | %.1f | %.3f | %d | %d | %.1f | %.1f | %.2f |"
+                       % (n, elems, yml_value(opts, "E", extra), yml_value(opts, "nu", extra), dt, len(st),
                           paper[4], newton, pcg, secs, failed, paper[0], paper[5], paper[6], paper[7]))
     else:
         img = os.path.join(ROOT, "bench", "results", "images")

@@ -85,6 +85,13 @@ def case_defs():
     d["fiber_zero"] = (lambda: ["-dm_plex_filename", good_mesh(), "-energy", "fiber", "-gamma", "1", "-fiber_file",
                                 write("f0.txt", fibers(2, ["1 0 0", "0 0 0"]))],
                        r"-fiber_file file '.*f0\.txt' line 4: zero-length vector for cell 1")
+    d["target_keyframe_order"] = (lambda: ["-dm_plex_filename", good_mesh(), "-energy", "shape_target", "-target_file",
+                                           write("kf.txt", "cells 2 keyframes 2\ntime 1\n1 1 1 0 0 0\n1 1 1 0 0 0\n"
+                                                 "time 0.5\n1 1 1 0 0 0\n1 1 1 0 0 0\n")],
+                                  r"-target_file '.*kf\.txt' line 5: keyframe times must increase \(0\.5 after 1\)")
+    d["target_keyframe_short"] = (lambda: ["-dm_plex_filename", good_mesh(), "-energy", "shape_target", "-target_file",
+                                           write("ks.txt", "cells 2 keyframes 1\ntime 0\n1 1 1 0 0\n")],
+                                  r"-target_file '.*ks\.txt' line 3: expected 6 numbers \(s11 s22 s33 s12 s23 s13\), got 5")
     d["fiber_short"] = (lambda: ["-dm_plex_filename", good_mesh(), "-energy", "fiber", "-gamma", "1", "-fiber_file",
                                  write("fs.txt", fibers(2, ["1 0 0"]))],
                         r"-fiber_file file '.*fs\.txt' has 1 vectors for 2 cells")

@@ -102,7 +102,9 @@ inline kernels::Derivs<R * C> evaluateEnergy(const Material &m, const CellData<C
       break;
     case EnergyKind::Caricature: {
       out = weightedArap<R, C>(ctx, terms, materialWeight<C>(m));
-      out += terms(kernels::fiberTensor<C>(cell.a)).scale(m.beta * cell.curvature);
+      // Eq. 66 in the iarap's units (iarap = mu Psi_iARAP): mu (Psi_iARAP + beta c I4(n)), so beta is
+      // dimensionless and the element targets the stretch 1 - beta c / 2 along n (Eq. 65 with 2 (1 - lambda_1) = beta c).
+      out += terms(kernels::fiberTensor<C>(cell.a)).scale(m.mu * m.beta * cell.curvature);
       addVolume(1.0);
       break;
     }

@@ -38,7 +38,7 @@ enum class EnergyKind {
   Bw461,        // Eq. 52, cloth
   Bw46s,        // Eq. 53, cloth, non-orthogonal fibers
   ShapeTarget,  // Eq. 65 + volume term lambda/2 (J - det S_t)^2
-  Caricature,   // Eq. 66: iarap + beta c I4(n)
+  Caricature,   // Eq. 66: iarap + mu beta c I4(n)
 };
 
 enum class SingularityMode { None, Mollifier, Barrier };

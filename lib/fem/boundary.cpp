@@ -15,6 +15,36 @@ Eigen::Vector3d ClampSet::target(const Eigen::Vector3d &X, double s) const {
   return x + s * translate;
 }
 
+namespace {
+
+// The motion options of one set: <prefix>translate, rotate, axis, center.
+PetscErrorCode readMotion(const std::string &prefix, ClampSet *c) {
+  std::vector<PetscReal> v;
+  PetscBool set = PETSC_FALSE;
+  PetscFunctionBeginUser;
+  PetscCall(optionRealList(prefix.c_str(), "-translate", &v, &set, 3));
+  if (set) c->translate = Eigen::Vector3d(v[0], v[1], v[2]);
+  PetscCall(optionReal(prefix.c_str(), "-rotate", &c->angleDeg, &set));
+  if (set) {
+    PetscCall(optionRealList(prefix.c_str(), "-axis", &v, &set, 3));
+    if (set) {
+      c->axis = Eigen::Vector3d(v[0], v[1], v[2]);
+      if (!(c->axis.norm() > 0.0))
+        SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s must not be the zero vector",
+                optionName(prefix.c_str(), "-axis").c_str());
+      c->axis.normalize();
+    }
+    PetscCall(optionRealList(prefix.c_str(), "-center", &v, &set, 3));
+    if (set) {
+      c->center = Eigen::Vector3d(v[0], v[1], v[2]);
+      c->centerGiven = true;
+    }
+  }
+  PetscFunctionReturn(0);
+}
+
+}  // namespace
+
 PetscErrorCode readBoundaryOptions(BoundarySpec *spec) {
   std::vector<std::string> ids;
   PetscBool set = PETSC_FALSE;
@@ -25,26 +55,7 @@ PetscErrorCode readBoundaryOptions(BoundarySpec *spec) {
       if (other.id == id) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -bc_clamp lists '%s' twice", id.c_str());
     ClampSet c;
     c.id = id;
-    const std::string prefix = "bc_clamp_" + id + "_";
-    std::vector<PetscReal> v;
-    PetscCall(optionRealList(prefix.c_str(), "-translate", &v, &set, 3));
-    if (set) c.translate = Eigen::Vector3d(v[0], v[1], v[2]);
-    PetscCall(optionReal(prefix.c_str(), "-rotate", &c.angleDeg, &set));
-    if (set) {
-      PetscCall(optionRealList(prefix.c_str(), "-axis", &v, &set, 3));
-      if (set) {
-        c.axis = Eigen::Vector3d(v[0], v[1], v[2]);
-        if (!(c.axis.norm() > 0.0))
-          SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s must not be the zero vector",
-                  optionName(prefix.c_str(), "-axis").c_str());
-        c.axis.normalize();
-      }
-      PetscCall(optionRealList(prefix.c_str(), "-center", &v, &set, 3));
-      if (set) {
-        c.center = Eigen::Vector3d(v[0], v[1], v[2]);
-        c.centerGiven = true;
-      }
-    }
+    PetscCall(readMotion("bc_clamp_" + id + "_", &c));
     spec->sets.push_back(c);
   }
   std::vector<PetscReal> box;
@@ -60,9 +71,10 @@ PetscErrorCode readBoundaryOptions(BoundarySpec *spec) {
       if (bb[0] > bb[1] || bb[2] > bb[3] || bb[4] > bb[5])
         SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -bc_box: box %d has min > max", (int)(b / 6) + 1);
       spec->boxes.push_back(bb);
-      ClampSet pinned;
-      pinned.id = "box" + std::to_string(b / 6 + 1);
-      spec->sets.push_back(pinned);
+      ClampSet box;
+      box.id = "box" + std::to_string(b / 6 + 1);
+      PetscCall(readMotion("bc_box_" + std::to_string(b / 6 + 1) + "_", &box));
+      spec->sets.push_back(box);
     }
   }
   PetscCall(optionInt(nullptr, "-bc_ramp_steps", &spec->rampSteps, &set));

@@ -4,7 +4,8 @@
 //   -bc_clamp_<id>_rotate degrees      total rotation angle of the set about ...
 //   -bc_clamp_<id>_axis x,y,z          ... this axis (default 0,0,1) through ...
 //   -bc_clamp_<id>_center x,y,z        ... this point (default: centroid of the set at rest)
-//   -bc_box xmin,xmax,ymin,ymax,zmin,zmax[,...]   vertices inside any of these boxes are pinned at rest
+//   -bc_box xmin,xmax,ymin,ymax,zmin,zmax[,...]   vertices inside box k (1-based) are prescribed, pinned at rest
+//   -bc_box_<k>_translate|rotate|axis|center       unless moved like a clamp set (handles)
 //   -bc_ramp_steps K                   the load parameter s = min(1, step / K) (default: all steps)
 // A vertex in several sets follows the first set listed. Prescribed position at load s:
 //   x = c + Rot(axis, s * angle) (X - c) + s * translate.

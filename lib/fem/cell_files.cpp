@@ -9,6 +9,39 @@
 
 namespace aries::fem {
 
+namespace {
+
+// The next line that is neither blank nor a '#' comment, split into whitespace-separated tokens.
+bool nextDataLine(std::istream &in, long *lineNo, std::string *line, std::vector<std::string> *tok) {
+  while (std::getline(in, *line)) {
+    ++*lineNo;
+    const auto first = line->find_first_not_of(" \t\r");
+    if (first == std::string::npos || (*line)[first] == '#') continue;
+    std::istringstream fields(*line);
+    std::string t;
+    tok->clear();
+    while (fields >> t) tok->push_back(t);
+    return true;
+  }
+  return false;
+}
+
+// Rank 0's error (if any) becomes a collective error; otherwise rank 0's data reaches every rank (sized already).
+PetscErrorCode broadcastResult(MPI_Comm comm, std::string error, std::vector<double> *data) {
+  PetscMPIInt rank;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  int len = static_cast<int>(error.size());
+  PetscCallMPI(MPI_Bcast(&len, 1, MPI_INT, 0, comm));
+  error.resize(len);
+  PetscCallMPI(MPI_Bcast(error.data(), len, MPI_CHAR, 0, comm));
+  PetscCall(fem::collectiveCheck(comm, !error.empty() && rank == 0, error));
+  PetscCallMPI(MPI_Bcast(data->data(), static_cast<int>(data->size()), MPI_DOUBLE, 0, comm));
+  PetscFunctionReturn(0);
+}
+
+}  // namespace
+
 PetscErrorCode readCellVectorFile(MPI_Comm comm, const std::string &file, const char *option, PetscInt numCells,
                                   int comps, std::vector<double> *values) {
   PetscMPIInt rank;
@@ -23,15 +56,9 @@ PetscErrorCode readCellVectorFile(MPI_Comm comm, const std::string &file, const 
       err << "cannot open " << option << " file '" << file << "'";
     } else {
       std::string line;
+      std::vector<std::string> tok;
       long lineNo = 0, declared = -1, cell = 0;
-      while (err.str().empty() && std::getline(in, line)) {
-        ++lineNo;
-        const auto first = line.find_first_not_of(" \t\r");
-        if (first == std::string::npos || line[first] == '#') continue;
-        std::istringstream fields(line);
-        std::vector<std::string> tok;
-        std::string t;
-        while (fields >> t) tok.push_back(t);
+      while (err.str().empty() && nextDataLine(in, &lineNo, &line, &tok)) {
         if (declared < 0) {
           double n;
           if (tok.size() != 1 || !parseReal(tok[0], &n) || n != std::floor(n) || n < 0)
@@ -77,12 +104,91 @@ PetscErrorCode readCellVectorFile(MPI_Comm comm, const std::string &file, const 
     }
     error = err.str();
   }
-  int len = static_cast<int>(error.size());
-  PetscCallMPI(MPI_Bcast(&len, 1, MPI_INT, 0, comm));
-  error.resize(len);
-  PetscCallMPI(MPI_Bcast(error.data(), len, MPI_CHAR, 0, comm));
-  PetscCall(fem::collectiveCheck(comm, !error.empty() && rank == 0, error));
-  PetscCallMPI(MPI_Bcast(values->data(), static_cast<int>(values->size()), MPI_DOUBLE, 0, comm));
+  PetscCall(broadcastResult(comm, error, values));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode readTargetKeyframeFile(MPI_Comm comm, const std::string &file, PetscInt numCells, int comps,
+                                      std::vector<double> *times, std::vector<double> *targets) {
+  PetscMPIInt rank;
+  std::string error;
+  std::vector<double> data;  // rank 0: K, then K times, then the targets
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank == 0) {
+    std::ifstream in(file);
+    std::ostringstream err;
+    const std::string where = "-target_file '" + file + "'";
+    if (!in) err << "cannot open " << where;
+    std::string line;
+    std::vector<std::string> tok;
+    long lineNo = 0, keys = -1, key = -1, cell = 0;
+    std::vector<double> ts, vals;
+    while (err.str().empty() && nextDataLine(in, &lineNo, &line, &tok)) {
+      double a = 0, b = 0;
+      if (keys < 0) {
+        if (tok.size() != 4 || tok[0] != "cells" || tok[2] != "keyframes" || !parseReal(tok[1], &a) ||
+            !parseReal(tok[3], &b) || a != std::floor(a) || b != std::floor(b) || b < 1) {
+          err << where << " line " << lineNo << ": expected 'cells N keyframes K' (K >= 1)";
+        } else if (static_cast<PetscInt>(a) != numCells) {
+          err << where << " declares " << static_cast<long>(a) << " cells but the mesh has " << numCells;
+        }
+        keys = static_cast<long>(b);
+        continue;
+      }
+      if (tok.size() == 2 && tok[0] == "time") {
+        if (key >= 0 && cell < numCells) {
+          err << where << " line " << lineNo << ": keyframe " << key + 1 << " has " << cell << " targets for "
+              << numCells << " cells";
+        } else if (key + 1 >= keys) {
+          err << where << " line " << lineNo << ": more than the declared " << keys << " keyframes";
+        } else if (!parseReal(tok[1], &a) || !std::isfinite(a)) {
+          err << where << " line " << lineNo << ": 'time' needs a number";
+        } else if (!ts.empty() && !(a > ts.back())) {
+          err << where << " line " << lineNo << ": keyframe times must increase (" << a << " after " << ts.back()
+              << ")";
+        }
+        ts.push_back(a);
+        ++key;
+        cell = 0;
+        continue;
+      }
+      if (key < 0) {
+        err << where << " line " << lineNo << ": expected 'time t' before the first keyframe's targets";
+      } else if (cell >= numCells) {
+        err << where << " line " << lineNo << ": keyframe " << key + 1 << " has more than " << numCells << " targets";
+      } else if (static_cast<int>(tok.size()) != comps) {
+        err << where << " line " << lineNo << ": expected " << comps << " numbers (" << (comps == 6 ? "s11 s22 s33 s12 s23 s13" : "s11 s22 s12")
+            << "), got " << tok.size();
+      } else {
+        for (const auto &x : tok) {
+          if (!parseReal(x, &a) || !std::isfinite(a)) {
+            err << where << " line " << lineNo << ": not a finite number: '" << x << "'";
+            break;
+          }
+          vals.push_back(a);
+        }
+        ++cell;
+      }
+    }
+    if (err.str().empty() && keys < 0) err << where << " is empty";
+    if (err.str().empty() && (key + 1 < keys || cell < numCells))
+      err << where << " ends early: " << key + 1 << " of " << keys << " keyframes, the last with " << cell << " of "
+          << numCells << " targets";
+    error = err.str();
+    if (error.empty()) {
+      data.push_back(static_cast<double>(keys));
+      data.insert(data.end(), ts.begin(), ts.end());
+      data.insert(data.end(), vals.begin(), vals.end());
+    }
+  }
+  long n = static_cast<long>(data.size());
+  PetscCallMPI(MPI_Bcast(&n, 1, MPI_LONG, 0, comm));
+  data.resize(n);
+  PetscCall(broadcastResult(comm, error, &data));
+  const long keys = static_cast<long>(data[0]);
+  times->assign(data.begin() + 1, data.begin() + 1 + keys);
+  targets->assign(data.begin() + 1 + keys, data.end());
   PetscFunctionReturn(0);
 }
 

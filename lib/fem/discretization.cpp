@@ -3,6 +3,8 @@
 #include "energies/energy.hpp"
 #include "fem/cell_files.hpp"
 #include "fem/options.hpp"
+#include "fem/caricature_field.hpp"
+#include "fem/shape_targets.hpp"
 #include "kernels/obstacle_barrier.hpp"
 #include "kernels/quadratic_bending.hpp"
 #include "fem/errors.hpp"
@@ -108,6 +110,13 @@ class DiscretizationT final : public Discretization {
   PetscErrorCode setLoad(double s) override {
     PetscFunctionBeginUser;
     load_ = s;
+    if (targets_.loadDependent()) updateTargets();
+    PetscFunctionReturn(0);
+  }
+  PetscErrorCode setTime(double t) override {
+    PetscFunctionBeginUser;
+    time_ = t;
+    if (targets_.timeDependent()) updateTargets();
     PetscFunctionReturn(0);
   }
   PetscErrorCode fillBoundary(Vec xLocal) const override;
@@ -173,11 +182,15 @@ class DiscretizationT final : public Discretization {
   void addSurfaceTermsGradient(const PetscScalar *x, PetscScalar *g) const;
   PetscErrorCode addSurfaceTermsHessian(const PetscScalar *x, Mat J) const;
   PetscErrorCode setupSurfaceTerms(Mesh &mesh);
+  bool activeMaterialsPerCell() const;
+  PetscErrorCode setupActiveMaterials(Mesh &mesh);
+  void updateTargets();
 
   std::vector<Cell> cells_;
   std::vector<VertexInfo> verts_;
   std::vector<energies::CellData<C>> cellData_;
   std::vector<std::array<double, 3>> restFibers_;  // per cell, for output (material frame)
+  TargetField targets_;                            // shape_target: -activation / -target_file
   std::vector<double> mass_;                       // per local vertex
   std::vector<double> xTilde_;                     // per local dof (dynamics)
   std::vector<Hinge> hinges_;                      // owned interior edges (cloth bending)
@@ -441,7 +454,11 @@ PetscErrorCode DiscretizationT<R, C>::setup(Mesh &mesh) {
   std::string fiberFile, fiber2File;
   PetscBool hasFiberFile = PETSC_FALSE, hasFiber2File = PETSC_FALSE;
   bool anyFibers = false;
-  for (const auto &m : materials_) anyFibers = anyFibers || energies::energyUsesFibers(m.kind);
+  for (const auto &m : materials_) {
+    bool uses = false;
+    PetscCall(materialUsesFibers(m.kind, &uses));
+    anyFibers = anyFibers || uses;
+  }
   if (anyFibers) {
     PetscCall(optionString(nullptr, "-fiber_file", &fiberFile, &hasFiberFile));
     if (C == 2 && R == 3) PetscCall(optionString(nullptr, "-fiber2_file", &fiber2File, &hasFiber2File));
@@ -449,7 +466,7 @@ PetscErrorCode DiscretizationT<R, C>::setup(Mesh &mesh) {
   if (hasFiberFile) PetscCall(readCellVectorFile(comm, fiberFile, "-fiber_file", mesh.numCellsGlobal, C, &fibers));
   if (hasFiber2File)
     PetscCall(readCellVectorFile(comm, fiber2File, "-fiber2_file", mesh.numCellsGlobal, C, &fibers2));
-  perCell = perCell || hasFiberFile || hasFiber2File;
+  perCell = perCell || hasFiberFile || hasFiber2File || activeMaterialsPerCell();
   auto toData = [&](const UniformCellData &u) { return toCellData<C>(u); };
   if (!perCell) {
     cellData_.assign(1, toData(baseCell));
@@ -463,6 +480,7 @@ PetscErrorCode DiscretizationT<R, C>::setup(Mesh &mesh) {
       cellData_[c] = d;
     }
   }
+  PetscCall(setupActiveMaterials(mesh));
   restFibers_.resize(nc);
   for (PetscInt c = 0; c < nc; ++c) {
     const auto &a = dataOf(c).a;
@@ -492,6 +510,71 @@ PetscErrorCode DiscretizationT<R, C>::setup(Mesh &mesh) {
   PetscFunctionReturn(0);
 }
 
+
+template <int R, int C>
+bool DiscretizationT<R, C>::activeMaterialsPerCell() const {
+  for (const auto &m : materials_)
+    if (m.kind == energies::EnergyKind::ShapeTarget || m.kind == energies::EnergyKind::Caricature) return true;
+  return false;
+}
+
+// Shape targets that vary over the cells or in time (-activation, -target_file), and the caricature's per-cell
+// curvature ratio and normal computed from the rest surface (paper Sec. 6).
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::setupActiveMaterials(Mesh &mesh) {
+  MPI_Comm comm;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetComm((PetscObject)mesh.dm, &comm));
+  bool target = false, caricature = false;
+  for (const auto &m : materials_) {
+    target = target || m.kind == energies::EnergyKind::ShapeTarget;
+    caricature = caricature || m.kind == energies::EnergyKind::Caricature;
+  }
+  if (target) {
+    PetscBool uniform = PETSC_FALSE;
+    PetscCall(PetscOptionsHasName(nullptr, nullptr, "-target", &uniform));
+    PetscCall(targets_.read(mesh, C, uniform));
+    if (targets_.source() != TargetField::Source::Material) updateTargets();
+  }
+  if (caricature) {
+    if constexpr (R == 3 && C == 3) {
+      for (const char *opt : {"-curvature", "-fiber", "-fiber_file"}) {
+        PetscBool given = PETSC_FALSE;
+        PetscCall(PetscOptionsHasName(nullptr, nullptr, opt, &given));
+        if (given)
+          SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+                  "option %s does not apply to energy 'caricature' in the solver: each element's curvature ratio c and "
+                  "normal n come from the mesh surface (paper Sec. 6); %s is for aries-matpoint",
+                  opt, std::string(opt) == "-fiber_file" ? "a uniform -fiber" : opt);
+      }
+      CaricatureField f;
+      PetscCall(computeCaricatureField(mesh, &f));
+      for (size_t c = 0; c < cells_.size(); ++c) {
+        if (materials_[cells_[c].region].kind != energies::EnergyKind::Caricature) continue;
+        cellData_[c].a = f.normal[c];
+        cellData_[c].curvature = f.ratio[c];
+      }
+      PetscCall(PetscPrintf(comm,
+                            "aries: caricature field: %d surface vertices, mean curvature %.6g, curvature ratio c in "
+                            "[%.4g, %.4g]%s\n",
+                            (int)f.surfaceVertices, f.meanCurvature, f.minRatio, f.maxRatio,
+                            f.degenerateNormals ? " (some cells without a normal: c = 0)" : ""));
+    } else {
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "energy 'caricature' needs a tetrahedral mesh");
+    }
+  }
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+void DiscretizationT<R, C>::updateTargets() {
+  for (size_t c = 0; c < cells_.size(); ++c) {
+    if (materials_[cells_[c].region].kind != energies::EnergyKind::ShapeTarget) continue;
+    Eigen::Vector3d a = Eigen::Vector3d::Zero();
+    a.head<C>() = cellData_[c].a;
+    cellData_[c].target = targets_.at(c, time_, load_, a).template topLeftCorner<C, C>();
+  }
+}
 
 // Cloth bending hinges (-bending, surfaces in 3D) and contact with analytic obstacles (-obstacle_plane,
 // -obstacle_sphere; 3D meshes). Options are read only where they apply.

@@ -51,6 +51,9 @@ class Discretization {
   // Load parameter of the prescribed motion (0 = rest, 1 = full), and the resulting Dirichlet values.
   double load() const { return load_; }
   virtual PetscErrorCode setLoad(double s) = 0;
+  // Time of the state being solved for (static runs: step * dt); drives keyframed shape targets (-target_file).
+  double time() const { return time_; }
+  virtual PetscErrorCode setTime(double t) = 0;
   virtual PetscErrorCode fillBoundary(Vec xLocal) const = 0;
 
   // Rest positions of the free dofs (global vector).
@@ -114,6 +117,7 @@ class Discretization {
   std::vector<energies::Material> materials_;
   DynamicsTerms dyn_;
   double load_ = 0.0;
+  double time_ = 0.0;
 };
 
 }  // namespace aries::fem

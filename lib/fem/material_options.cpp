@@ -47,6 +47,14 @@ PetscErrorCode basisFrom(const Eigen::Vector3d &a, const Eigen::Vector3d &b, con
 
 }  // namespace
 
+PetscErrorCode materialUsesFibers(energies::EnergyKind kind, bool *uses) {
+  PetscBool activation = PETSC_FALSE;
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsHasName(nullptr, nullptr, "-activation", &activation));
+  *uses = energies::energyUsesFibers(kind) || (kind == energies::EnergyKind::ShapeTarget && activation);
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode readMaterialOptions(const char *prefix, ElementShape shape, const energies::Material *base,
                                    const UniformCellData *baseCell, energies::Material *material,
                                    UniformCellData *cell) {
@@ -177,7 +185,9 @@ PetscErrorCode readMaterialOptions(const char *prefix, ElementShape shape, const
 
   // Fibers: the energies that read them per element, plus the basis of ortho / kim_aa.
   const bool basisEnergy = m.kind == EnergyKind::Ortho || m.kind == EnergyKind::KimAA;
-  if (energies::energyUsesFibers(m.kind) || basisEnergy) {
+  bool usesFibers = false;
+  PetscCall(materialUsesFibers(m.kind, &usesFibers));
+  if (usesFibers || basisEnergy) {
     PetscBool setA = PETSC_FALSE, setB = PETSC_FALSE;
     PetscCall(readDirection(prefix, "-fiber", shape, &c.a, &setA));
     c.fiberGiven = c.fiberGiven || setA;

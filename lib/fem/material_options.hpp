@@ -24,6 +24,10 @@ PetscErrorCode readMaterialOptions(const char *prefix, energies::ElementShape sh
                                    const UniformCellData *baseCell, energies::Material *material,
                                    UniformCellData *cell);
 
+// Whether elements of this energy read fibers (-fiber, -fiber_file): the fiber energies, and shape_target when the
+// targets come from -activation (along each element's fiber).
+PetscErrorCode materialUsesFibers(energies::EnergyKind kind, bool *uses);
+
 template <int C>
 energies::CellData<C> toCellData(const UniformCellData &u) {
   energies::CellData<C> c;

@@ -6,6 +6,7 @@
 #include <metis.h>
 #include <petscsf.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <numeric>
@@ -388,6 +389,58 @@ PetscErrorCode describePhysicalGroups(const Mesh &mesh, std::string *text) {
     out << "} ";
   }
   *text = out.str().empty() ? "none" : out.str();
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode sharedLeafPoints(DM dm, std::vector<char> *leaf) {
+  PetscSF sf;
+  PetscInt pStart, pEnd, nleaves;
+  const PetscInt *ilocal;
+  PetscFunctionBeginUser;
+  PetscCall(DMPlexGetChart(dm, &pStart, &pEnd));
+  PetscCall(DMGetPointSF(dm, &sf));
+  PetscCall(PetscSFGetGraph(sf, nullptr, &nleaves, &ilocal, nullptr));
+  leaf->assign(pEnd - pStart, 0);
+  for (PetscInt i = 0; i < nleaves; ++i) (*leaf)[(ilocal ? ilocal[i] : i) - pStart] = 1;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode sumOverSharedVertices(const Mesh &mesh, int ncomp, std::vector<double> *values) {
+  PetscSF sf;
+  PetscInt pStart, pEnd;
+  MPI_Datatype unit;
+  PetscFunctionBeginUser;
+  PetscCall(DMPlexGetChart(mesh.dm, &pStart, &pEnd));
+  PetscCall(DMGetPointSF(mesh.dm, &sf));
+  // The SF is over all points; non-vertex entries stay zero.
+  std::vector<double> leaf(static_cast<size_t>(pEnd - pStart) * ncomp, 0.0);
+  std::copy(values->begin(), values->end(), leaf.begin() + static_cast<size_t>(mesh.vStart - pStart) * ncomp);
+  std::vector<double> root(leaf);
+  PetscCallMPI(MPI_Type_contiguous(ncomp, MPI_DOUBLE, &unit));
+  PetscCallMPI(MPI_Type_commit(&unit));
+  PetscCall(PetscSFReduceBegin(sf, unit, leaf.data(), root.data(), MPI_SUM));
+  PetscCall(PetscSFReduceEnd(sf, unit, leaf.data(), root.data(), MPI_SUM));
+  PetscCall(PetscSFBcastBegin(sf, unit, root.data(), leaf.data(), MPI_REPLACE));
+  PetscCall(PetscSFBcastEnd(sf, unit, root.data(), leaf.data(), MPI_REPLACE));
+  PetscCallMPI(MPI_Type_free(&unit));
+  std::vector<char> isLeaf;
+  PetscCall(sharedLeafPoints(mesh.dm, &isLeaf));
+  for (PetscInt v = mesh.vStart; v < mesh.vEnd; ++v) {
+    const std::vector<double> &src = isLeaf[v - pStart] ? leaf : root;
+    for (int k = 0; k < ncomp; ++k)
+      (*values)[static_cast<size_t>(v - mesh.vStart) * ncomp + k] = src[static_cast<size_t>(v - pStart) * ncomp + k];
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode cellVertices(const Mesh &mesh, PetscInt c, std::vector<PetscInt> *vertices) {
+  PetscInt ncl, *closure = nullptr;
+  PetscFunctionBeginUser;
+  vertices->clear();
+  PetscCall(DMPlexGetTransitiveClosure(mesh.dm, c, PETSC_TRUE, &ncl, &closure));
+  for (PetscInt i = 0; i < ncl; ++i)
+    if (closure[2 * i] >= mesh.vStart && closure[2 * i] < mesh.vEnd) vertices->push_back(closure[2 * i] - mesh.vStart);
+  PetscCall(DMPlexRestoreTransitiveClosure(mesh.dm, c, PETSC_TRUE, &ncl, &closure));
   PetscFunctionReturn(0);
 }
 

@@ -53,4 +53,15 @@ PetscErrorCode regionLabel(const Mesh &mesh, const std::string &idOrName, DMLabe
 // Human-readable list of the physical groups present (for error messages), collective.
 PetscErrorCode describePhysicalGroups(const Mesh &mesh, std::string *text);
 
+// Flags (indexed p - pStart over the chart) of the points this rank holds as copies of another rank's points
+// (leaves of the point SF). Not collective.
+PetscErrorCode sharedLeafPoints(DM dm, std::vector<char> *leaf);
+
+// Sums per-vertex contributions over all ranks that hold the vertex: `values` holds `ncomp` numbers per local vertex
+// (index v - vStart); on return every copy holds the total. Collective.
+PetscErrorCode sumOverSharedVertices(const Mesh &mesh, int ncomp, std::vector<double> *values);
+
+// The local vertices (index v - vStart) of local cell c, in closure order. Not collective.
+PetscErrorCode cellVertices(const Mesh &mesh, PetscInt c, std::vector<PetscInt> *vertices);
+
 }  // namespace aries::fem

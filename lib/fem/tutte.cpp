@@ -1,30 +1,17 @@
 #include "fem/tutte.hpp"
 
 #include "fem/errors.hpp"
+#include "fem/harmonic.hpp"
 
-#include <petscksp.h>
 #include <petscsf.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <sstream>
 
 namespace aries::fem {
 
-namespace {
-
-std::vector<char> leafFlags(DM dm, PetscInt pStart, PetscInt pEnd) {
-  std::vector<char> leaf(pEnd - pStart, 0);
-  PetscSF sf;
-  PetscInt nleaves;
-  const PetscInt *ilocal;
-  DMGetPointSF(dm, &sf);
-  PetscSFGetGraph(sf, nullptr, &nleaves, &ilocal, nullptr);
-  for (PetscInt i = 0; i < nleaves; ++i) leaf[(ilocal ? ilocal[i] : i) - pStart] = 1;
-  return leaf;
-}
-
-}  // namespace
 
 PetscErrorCode tutteEmbedding(const Mesh &mesh, std::vector<Eigen::Vector2d> *uv) {
   MPI_Comm comm;
@@ -40,7 +27,8 @@ PetscErrorCode tutteEmbedding(const Mesh &mesh, std::vector<Eigen::Vector2d> *uv
   PetscInt pStart, pEnd, eStart, eEnd;
   PetscCall(DMPlexGetChart(dm, &pStart, &pEnd));
   PetscCall(DMPlexGetDepthStratum(dm, 1, &eStart, &eEnd));
-  const std::vector<char> leaf = leafFlags(dm, pStart, pEnd);
+  std::vector<char> leaf;
+  PetscCall(sharedLeafPoints(dm, &leaf));
   Vec coords;
   PetscSection cs;
   const PetscScalar *X;
@@ -141,108 +129,28 @@ PetscErrorCode tutteEmbedding(const Mesh &mesh, std::vector<Eigen::Vector2d> *uv
   std::map<PetscInt, Eigen::Vector2d> boundaryUV;
   for (int i = 0; i < np; i += 3) boundaryUV[static_cast<PetscInt>(placed[i])] = {placed[i + 1], placed[i + 2]};
 
-  // Scalar problem on a clone of the DM: 1 dof per vertex, boundary vertices constrained.
-  DM sdm;
-  PetscCall(DMClone(dm, &sdm));
-  PetscSection sec;
-  PetscCall(PetscSectionCreate(comm, &sec));
-  PetscCall(PetscSectionSetChart(sec, pStart, pEnd));
-  std::vector<char> onBoundary(mesh.vEnd - mesh.vStart, 0);
-  for (PetscInt v = mesh.vStart; v < mesh.vEnd; ++v) {
-    PetscCall(PetscSectionSetDof(sec, v, 1));
-    if (boundaryUV.count(mesh.naturalVertex[v - mesh.vStart])) {
-      onBoundary[v - mesh.vStart] = 1;
-      PetscCall(PetscSectionSetConstraintDof(sec, v, 1));
-    }
+  // Interior vertices: the average of their neighbours (every triangle edge weight 1), boundary on the circle.
+  HarmonicProblem h;
+  h.verticesPerCell = 3;
+  h.cellStiffness = [](PetscInt, const PetscInt *, double *Ke) {
+    const double K[9] = {2, -1, -1, -1, 2, -1, -1, -1, 2};
+    std::copy(K, K + 9, Ke);
+  };
+  h.components = 2;
+  h.constrained.assign(mesh.vEnd - mesh.vStart, 0);
+  h.values.assign(2 * static_cast<size_t>(mesh.vEnd - mesh.vStart), 0.0);
+  for (PetscInt v = 0; v < mesh.vEnd - mesh.vStart; ++v) {
+    const auto it = boundaryUV.find(mesh.naturalVertex[v]);
+    if (it == boundaryUV.end()) continue;
+    h.constrained[v] = 1;
+    h.values[2 * v] = it->second[0];
+    h.values[2 * v + 1] = it->second[1];
   }
-  PetscCall(PetscSectionSetUp(sec));
-  const PetscInt zero = 0;
-  for (PetscInt v = mesh.vStart; v < mesh.vEnd; ++v)
-    if (onBoundary[v - mesh.vStart]) PetscCall(PetscSectionSetConstraintIndices(sec, v, &zero));
-  PetscCall(DMSetLocalSection(sdm, sec));
-  PetscCall(PetscSectionDestroy(&sec));
-  PetscCall(DMSetMatType(sdm, MATAIJ));
-  PetscSection gsec;
-  PetscCall(DMGetGlobalSection(sdm, &gsec));
-  Mat K;
-  Vec b[2], x[2];
-  PetscCall(DMCreateMatrix(sdm, &K));
-  for (int k = 0; k < 2; ++k) {
-    PetscCall(DMCreateGlobalVector(sdm, &b[k]));
-    PetscCall(VecDuplicate(b[k], &x[k]));
-    PetscCall(VecSet(b[k], 0.0));
-  }
-  const double Ke[3][3] = {{2, -1, -1}, {-1, 2, -1}, {-1, -1, 2}};  // the triangle's three edges, weight 1 each
-  for (PetscInt c = mesh.cStart; c < mesh.cEnd; ++c) {
-    if (!mesh.cellOwned[c - mesh.cStart]) continue;
-    PetscInt ncl, *closure = nullptr, verts[3], k = 0;
-    PetscCall(DMPlexGetTransitiveClosure(dm, c, PETSC_TRUE, &ncl, &closure));
-    for (PetscInt i = 0; i < ncl && k < 3; ++i)
-      if (closure[2 * i] >= mesh.vStart && closure[2 * i] < mesh.vEnd) verts[k++] = closure[2 * i];
-    PetscCall(DMPlexRestoreTransitiveClosure(dm, c, PETSC_TRUE, &ncl, &closure));
-    PetscInt rows[3];
-    for (int i = 0; i < 3; ++i) {
-      PetscInt off;
-      PetscCall(PetscSectionGetOffset(gsec, verts[i], &off));
-      rows[i] = onBoundary[verts[i] - mesh.vStart] ? -1 : (off >= 0 ? off : -(off + 1));
-    }
-    PetscCall(MatSetValues(K, 3, rows, 3, rows, &Ke[0][0], ADD_VALUES));
-    for (int i = 0; i < 3; ++i) {
-      if (rows[i] < 0) continue;
-      for (int j = 0; j < 3; ++j) {
-        if (!onBoundary[verts[j] - mesh.vStart]) continue;
-        const Eigen::Vector2d &g = boundaryUV[mesh.naturalVertex[verts[j] - mesh.vStart]];
-        for (int d = 0; d < 2; ++d) PetscCall(VecSetValue(b[d], rows[i], -Ke[i][j] * g[d], ADD_VALUES));
-      }
-    }
-  }
-  PetscCall(MatAssemblyBegin(K, MAT_FINAL_ASSEMBLY));
-  PetscCall(MatAssemblyEnd(K, MAT_FINAL_ASSEMBLY));
-  KSP ksp;
-  PetscCall(KSPCreate(comm, &ksp));
-  PetscCall(KSPSetOptionsPrefix(ksp, "tutte_"));
-  PetscCall(KSPSetOperators(ksp, K, K));
-  PetscCall(KSPSetType(ksp, KSPCG));
-  PC pc;
-  PetscCall(KSPGetPC(ksp, &pc));
-  PetscCall(PCSetType(pc, PCGAMG));
-  PetscCall(KSPSetTolerances(ksp, 1e-10, PETSC_DEFAULT, PETSC_DEFAULT, 10000));
-  PetscCall(KSPSetFromOptions(ksp));
-  uv->assign(mesh.vEnd - mesh.vStart, Eigen::Vector2d::Zero());
-  for (int d = 0; d < 2; ++d) {
-    PetscCall(VecAssemblyBegin(b[d]));
-    PetscCall(VecAssemblyEnd(b[d]));
-    PetscCall(KSPSolve(ksp, b[d], x[d]));
-    KSPConvergedReason reason;
-    PetscCall(KSPGetConvergedReason(ksp, &reason));
-    PetscCheck(reason > 0, comm, PETSC_ERR_NOT_CONVERGED, "the Tutte embedding's linear solve did not converge (%s)",
-               KSPConvergedReasons[reason]);
-    Vec loc;
-    const PetscScalar *a;
-    PetscSection lsec;
-    PetscCall(DMGetLocalSection(sdm, &lsec));
-    PetscCall(DMGetLocalVector(sdm, &loc));
-    PetscCall(DMGlobalToLocal(sdm, x[d], INSERT_VALUES, loc));
-    PetscCall(VecGetArrayRead(loc, &a));
-    for (PetscInt v = mesh.vStart; v < mesh.vEnd; ++v) {
-      if (onBoundary[v - mesh.vStart]) {
-        (*uv)[v - mesh.vStart][d] = boundaryUV[mesh.naturalVertex[v - mesh.vStart]][d];
-      } else {
-        PetscInt off;
-        PetscCall(PetscSectionGetOffset(lsec, v, &off));
-        (*uv)[v - mesh.vStart][d] = a[off];
-      }
-    }
-    PetscCall(VecRestoreArrayRead(loc, &a));
-    PetscCall(DMRestoreLocalVector(sdm, &loc));
-  }
-  PetscCall(KSPDestroy(&ksp));
-  PetscCall(MatDestroy(&K));
-  for (int k = 0; k < 2; ++k) {
-    PetscCall(VecDestroy(&b[k]));
-    PetscCall(VecDestroy(&x[k]));
-  }
-  PetscCall(DMDestroy(&sdm));
+  h.prefix = "tutte_";
+  h.what = "Tutte embedding";
+  PetscCall(harmonicExtension(mesh, &h));
+  uv->resize(mesh.vEnd - mesh.vStart);
+  for (PetscInt v = 0; v < mesh.vEnd - mesh.vStart; ++v) (*uv)[v] = Eigen::Vector2d(h.values[2 * v], h.values[2 * v + 1]);
   PetscFunctionReturn(0);
 }
 

@@ -63,7 +63,13 @@ PetscErrorCode readSimulationOptions(SimulationOptions *o) {
     else if (s == "scramble") o->initial = InitialState::Scramble;
     else if (s == "invert") o->initial = InitialState::Invert;
     else if (s == "tutte") o->initial = InitialState::Tutte;
-    else SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -initial: '%s' is not rest|scramble|invert|tutte", s.c_str());
+    else if (s == "collapse_plane") o->initial = InitialState::CollapsePlane;
+    else if (s == "collapse_line") o->initial = InitialState::CollapseLine;
+    else if (s == "collapse_point") o->initial = InitialState::CollapsePoint;
+    else
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+              "option -initial: '%s' is not rest|scramble|invert|tutte|collapse_plane|collapse_line|collapse_point",
+              s.c_str());
   }
   if (o->initial == InitialState::Scramble) {
     PetscCall(fem::optionReal(nullptr, "-scramble_volume_ratio", &o->scrambleVolumeRatio, &set));
@@ -107,6 +113,7 @@ PetscErrorCode Simulation::setup(fem::Discretization &disc, const SimulationOpti
   PetscCall(VecSet(v_, 0.0));
   PetscCall(disc.restPositions(x_));
   PetscCall(disc.setLoad(0.0));
+  PetscCall(disc.setTime(0.0));
   PetscCall(applyInitialState());
   PetscCall(PetscLogStageGetId("solve", &solveStage_));
   if (solveStage_ < 0) PetscCall(PetscLogStageRegister("solve", &solveStage_));
@@ -154,6 +161,15 @@ PetscErrorCode Simulation::applyInitialState() {
     disc_->forEachOwnedFreeVertex([&](PetscInt, PetscInt, PetscInt off, const Eigen::Vector3d &X) {
       for (int i = 0; i < R; ++i) x[off - lo + i] = 2.0 * centroid[i] - X[i];
     });
+  } else if (opts_.initial == InitialState::CollapsePlane || opts_.initial == InitialState::CollapseLine ||
+             opts_.initial == InitialState::CollapsePoint) {
+    // Stress tests: the coordinates from `keep` on are set to the centroid's (plane: the last coordinate, so every
+    // free vertex lies in the plane through the centroid normal to z (y in 2D); line: all but x; point: all).
+    const int keep = opts_.initial == InitialState::CollapsePlane ? R - 1
+                     : opts_.initial == InitialState::CollapseLine ? 1 : 0;
+    disc_->forEachOwnedFreeVertex([&](PetscInt, PetscInt, PetscInt off, const Eigen::Vector3d &X) {
+      for (int i = 0; i < R; ++i) x[off - lo + i] = i < keep ? X[i] : centroid[i];
+    });
   } else {
     const int dim = disc_->shapeCols() == 3 ? 3 : 2;
     const double side = std::pow(opts_.scrambleVolumeRatio * disc_->restMeasureGlobal(), 1.0 / dim);
@@ -187,6 +203,7 @@ PetscErrorCode Simulation::resume(const std::vector<double> &positions, const st
   PetscCall(VecRestoreArray(x_, &x));
   PetscCall(VecRestoreArray(v_, &v));
   PetscCall(disc_->setLoad(load));
+  PetscCall(disc_->setTime(time));
   completedSteps_ = completedStep;
   time_ = time;
   PetscFunctionReturn(0);
@@ -250,7 +267,8 @@ PetscErrorCode Simulation::advance(double dt, double loadTarget, int depth, Newt
                                    std::string *reason) {
   const bool dynamic = opts_.integrator == Integrator::BackwardEuler;
   PetscFunctionBeginUser;
-  const double load0 = disc_->load();
+  const double load0 = disc_->load(), time0 = disc_->time();
+  PetscCall(disc_->setTime(time0 + dt));  // time-dependent material data (keyframed shape targets) at the step's end
   PetscCall(VecCopy(x_, xPrev_));
   PetscCall(VecCopy(v_, vPrev_));
   if (dynamic) {
@@ -280,6 +298,7 @@ PetscErrorCode Simulation::advance(double dt, double loadTarget, int depth, Newt
     PetscCall(VecCopy(xPrev_, x_));
     PetscCall(VecCopy(vPrev_, v_));
     PetscCall(disc_->setLoad(load0));
+    PetscCall(disc_->setTime(time0));
     const double mid = 0.5 * (load0 + loadTarget);
     PetscCall(advance(0.5 * dt, mid, depth + 1, acc, ok, reason));
     if (*ok) PetscCall(advance(0.5 * dt, loadTarget, depth + 1, acc, ok, reason));
@@ -305,6 +324,7 @@ PetscErrorCode Simulation::advance(double dt, double loadTarget, int depth, Newt
   PetscCall(VecCopy(xPrev_, x_));
   PetscCall(VecCopy(vPrev_, v_));
   PetscCall(disc_->setLoad(load0));
+  PetscCall(disc_->setTime(time0));
   PetscFunctionReturn(0);
 }
 

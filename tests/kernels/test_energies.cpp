@@ -167,12 +167,12 @@ void layeredReducesToIarap() {
         cell.curvature = 0.7;
         expectSameDerivs<9>(energies::evaluateEnergy<3, 3>(c0, cell, s.F), ref, kIdTol, kIdTol, kIdTol,
                             "caricature(beta=0) vs iarap " + what, "caricature(beta=0)==iarap");
-        // beta != 0 adds exactly beta c I4(n) (Eq. 66).
+        // beta != 0 adds exactly mu beta c I4(n) (Eq. 66 in the iarap's units).
         car.beta = 0.8;
         const Material c1 = finalized<3, 3>(car);
         const double I4n = svdStretchInvariant<3>(s.F, fiberTensor<3>(cell.a), Order::Value).value;
         EXPECT_LT(relErr(energies::evaluateEnergy<3, 3>(c1, cell, s.F, Order::Value).value,
-                         ref.value + 0.8 * 0.7 * I4n),
+                         ref.value + car.mu * 0.8 * 0.7 * I4n),
                   kIdTol)
             << what;
       }
@@ -282,6 +282,38 @@ void shapeTargetAgainstSvd() {
   }
 }
 
+// Sec. 5.3: lambda_i = 0 for i > 1 (S_t = l1 a a^T) gives the additive iso + fiber muscle form
+//   mu/2 |F - R S_t|^2 = mu/2 (I_C - 2 l1 I4(a) + l1^2),
+// an isotropic term mu/2 I_C plus a fiber term -mu l1 I4(a) (value, PK1 and Hessian against that form: the
+// Hessian of I_C is 2 Id, the I4 derivatives come from the SVD twist-mode formulas). Volume term off (lambda = 0).
+template <int D>
+void shapeTargetMuscleForm() {
+  Rng rng(seedOf("shape target muscle " + std::to_string(D)));
+  Material m;
+  m.kind = EnergyKind::ShapeTarget;
+  m.mu = 1.3;
+  m.lambda = 0.0;
+  m.singularity.mode = SingularityMode::None;
+  m = finalized<D, D>(m);
+  for (const auto &s : identityFamilies<D, D>("muscle form F " + std::to_string(D))) {
+    CellData<D> cell;
+    const Vec<D> a = randomUnit<D>(rng);
+    const double l1 = rng.uniform(0.5, 1.5);
+    cell.target = l1 * a * a.transpose();
+    const auto got = energies::evaluateEnergy<D, D>(m, cell, s.F);
+    const auto I4 = svdStretchInvariant<D>(s.F, fiberTensor<D>(a));
+    Derivs<D * D> ref;
+    ref.value = 0.5 * m.mu * (s.F.squaredNorm() - 2.0 * l1 * I4.value + l1 * l1);
+    ref.grad = m.mu * flatten<D, D>(s.F) - m.mu * l1 * I4.grad;
+    ref.hess = m.mu * Mat<D * D, D * D>::Identity() - m.mu * l1 * I4.hess;
+    expectSameDerivs<D * D>(got, ref, kIdTol, 1e-11, 1e-10, "muscle form " + s.label,
+                            "shape_target(l1 a a^T)==iso+fiber D=" + std::to_string(D));
+  }
+}
+
+TEST(EnergyIdentities, ShapeTargetMuscleFormIsIsoPlusFiber_Tet) { shapeTargetMuscleForm<3>(); }
+TEST(EnergyIdentities, ShapeTargetMuscleFormIsIsoPlusFiber_Planar) { shapeTargetMuscleForm<2>(); }
+
 TEST(EnergyIdentities, ShapeTargetEqualsSvdFormAndVanishesAtRest_Tet) { shapeTargetAgainstSvd<3>(); }
 TEST(EnergyIdentities, ShapeTargetEqualsSvdFormAndVanishesAtRest_Planar) { shapeTargetAgainstSvd<2>(); }
 
@@ -343,7 +375,7 @@ double definitionBySvd(const Material &m, const CellData<C> &cell, const Mat<R, 
       if constexpr (R == C) e += 0.5 * m.lambda * sq(J - cell.target.determinant());
       return e;
     }
-    case EnergyKind::Caricature: return m.mu * arap + vol + m.beta * cell.curvature * I4(cell.a);
+    case EnergyKind::Caricature: return m.mu * arap + vol + m.mu * m.beta * cell.curvature * I4(cell.a);
   }
   return std::numeric_limits<double>::quiet_NaN();
 }

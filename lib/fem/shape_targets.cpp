@@ -1,0 +1,91 @@
+#include "fem/shape_targets.hpp"
+
+#include "fem/cell_files.hpp"
+#include "fem/options.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace aries::fem {
+
+PetscErrorCode TargetField::read(const Mesh &mesh, int dim, bool uniformTargetGiven) {
+  MPI_Comm comm;
+  std::vector<PetscReal> act;
+  std::string file;
+  PetscBool hasAct = PETSC_FALSE, hasFile = PETSC_FALSE;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetComm((PetscObject)mesh.dm, &comm));
+  dim_ = dim;
+  comps_ = dim == 3 ? 6 : 3;
+  PetscCall(optionRealList(nullptr, "-activation", &act, &hasAct));
+  PetscCall(optionString(nullptr, "-target_file", &file, &hasFile));
+  if (hasAct && hasFile)
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "options -activation and -target_file both give the shape targets; use one");
+  if ((hasAct || hasFile) && uniformTargetGiven)
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s and -target both give the shape targets; use one",
+            hasAct ? "-activation" : "-target_file");
+  if (hasAct) {
+    if (act.empty() || act.size() > 2)
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+              "option -activation takes l1[,l2]: the target stretch along the fiber and across it (got %d numbers)",
+              (int)act.size());
+    along_ = act[0];
+    across_ = act.size() > 1 ? act[1] : 1.0;
+    if (!(along_ >= 0.0) || !(across_ >= 0.0) || !std::isfinite(along_) || !std::isfinite(across_))
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -activation: stretches must be finite and >= 0 (got %g,%g)",
+              along_, across_);
+    source_ = Source::Activation;
+  } else if (hasFile) {
+    std::vector<double> all;
+    PetscCall(readTargetKeyframeFile(comm, file, mesh.numCellsGlobal, comps_, &times_, &all));
+    ncells_ = static_cast<size_t>(mesh.cEnd - mesh.cStart);
+    local_.resize(times_.size() * ncells_ * comps_);
+    for (size_t k = 0; k < times_.size(); ++k)
+      for (size_t c = 0; c < ncells_; ++c)
+        std::copy_n(&all[(k * mesh.numCellsGlobal + mesh.naturalCell[c]) * comps_], comps_,
+                    &local_[(k * ncells_ + c) * comps_]);
+    source_ = Source::Keyframes;
+  }
+  PetscFunctionReturn(0);
+}
+
+Eigen::Matrix3d TargetField::keyframe(size_t k, size_t c) const {
+  const double *s = &local_[(k * ncells_ + c) * comps_];
+  Eigen::Matrix3d S = Eigen::Matrix3d::Identity();
+  if (dim_ == 3) {
+    S << s[0], s[3], s[5],  //
+        s[3], s[1], s[4],   //
+        s[5], s[4], s[2];
+  } else {
+    S(0, 0) = s[0];
+    S(1, 1) = s[1];
+    S(0, 1) = S(1, 0) = s[2];
+  }
+  return S;
+}
+
+Eigen::Matrix3d TargetField::at(size_t c, double t, double s, const Eigen::Vector3d &a) const {
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  switch (source_) {
+    case Source::Activation: {
+      Eigen::Vector3d u = Eigen::Vector3d::Zero();
+      u.head(dim_) = a.head(dim_);
+      Eigen::Matrix3d P = I;
+      P.bottomRightCorner(3 - dim_, 3 - dim_).setZero();  // planar elements: the 2x2 block is used
+      const Eigen::Matrix3d St = along_ * u * u.transpose() + across_ * (P - u * u.transpose());
+      return I + s * (St - I);
+    }
+    case Source::Keyframes: {
+      if (t <= times_.front()) return keyframe(0, c);
+      if (t >= times_.back()) return keyframe(times_.size() - 1, c);
+      const size_t k = std::upper_bound(times_.begin(), times_.end(), t) - times_.begin();  // times_[k-1] < t < times_[k]
+      const double w = (t - times_[k - 1]) / (times_[k] - times_[k - 1]);
+      return (1.0 - w) * keyframe(k - 1, c) + w * keyframe(k, c);
+    }
+    case Source::Material:
+      break;
+  }
+  return I;
+}
+
+}  // namespace aries::fem
