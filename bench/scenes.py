@@ -112,7 +112,9 @@ def run_scene(a, env, name, opts, extra, msh, total_steps):
         args += ["-target_file", msh[:-4] + ".targets"]
     args += ["-stats", stats, "-output", base, "-output_every", str(RENDER.get(name, (None, 1000000))[1])]
     if a.steps:
-        args += ["-steps", str(min(a.steps, total_steps)), "-bc_ramp_steps", str(total_steps)]
+        args += ["-steps", str(min(a.steps, total_steps))]
+        if not re.search(r"^bc_ramp_steps:", text, re.M):  # keep the full-length ramp unless the scene sets its own
+            args += ["-bc_ramp_steps", str(total_steps)]
     cmd = ["mpiexec", "-n", str(a.ranks), "--bind-to", "none", os.path.join(a.build, "aries")] + args
     print("$ " + " ".join(cmd), flush=True)
     p = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True)

@@ -182,7 +182,7 @@ class DiscretizationT final : public Discretization {
   void addSurfaceTermsGradient(const PetscScalar *x, PetscScalar *g) const;
   PetscErrorCode addSurfaceTermsHessian(const PetscScalar *x, Mat J) const;
   PetscErrorCode setupSurfaceTerms(Mesh &mesh);
-  bool activeMaterialsPerCell() const;
+  bool usesEnergy(energies::EnergyKind kind) const;  // by any region
   PetscErrorCode setupActiveMaterials(Mesh &mesh);
   void updateTargets();
 
@@ -466,7 +466,9 @@ PetscErrorCode DiscretizationT<R, C>::setup(Mesh &mesh) {
   if (hasFiberFile) PetscCall(readCellVectorFile(comm, fiberFile, "-fiber_file", mesh.numCellsGlobal, C, &fibers));
   if (hasFiber2File)
     PetscCall(readCellVectorFile(comm, fiber2File, "-fiber2_file", mesh.numCellsGlobal, C, &fibers2));
-  perCell = perCell || hasFiberFile || hasFiber2File || activeMaterialsPerCell();
+  // Active materials carry per-cell data (targets, curvature ratios).
+  perCell = perCell || hasFiberFile || hasFiber2File || usesEnergy(energies::EnergyKind::ShapeTarget) ||
+            usesEnergy(energies::EnergyKind::Caricature);
   auto toData = [&](const UniformCellData &u) { return toCellData<C>(u); };
   if (!perCell) {
     cellData_.assign(1, toData(baseCell));
@@ -512,9 +514,9 @@ PetscErrorCode DiscretizationT<R, C>::setup(Mesh &mesh) {
 
 
 template <int R, int C>
-bool DiscretizationT<R, C>::activeMaterialsPerCell() const {
+bool DiscretizationT<R, C>::usesEnergy(energies::EnergyKind kind) const {
   for (const auto &m : materials_)
-    if (m.kind == energies::EnergyKind::ShapeTarget || m.kind == energies::EnergyKind::Caricature) return true;
+    if (m.kind == kind) return true;
   return false;
 }
 
@@ -525,18 +527,13 @@ PetscErrorCode DiscretizationT<R, C>::setupActiveMaterials(Mesh &mesh) {
   MPI_Comm comm;
   PetscFunctionBeginUser;
   PetscCall(PetscObjectGetComm((PetscObject)mesh.dm, &comm));
-  bool target = false, caricature = false;
-  for (const auto &m : materials_) {
-    target = target || m.kind == energies::EnergyKind::ShapeTarget;
-    caricature = caricature || m.kind == energies::EnergyKind::Caricature;
-  }
-  if (target) {
+  if (usesEnergy(energies::EnergyKind::ShapeTarget)) {
     PetscBool uniform = PETSC_FALSE;
     PetscCall(PetscOptionsHasName(nullptr, nullptr, "-target", &uniform));
     PetscCall(targets_.read(mesh, C, uniform));
     if (targets_.source() != TargetField::Source::Material) updateTargets();
   }
-  if (caricature) {
+  if (usesEnergy(energies::EnergyKind::Caricature)) {
     if constexpr (R == 3 && C == 3) {
       for (const char *opt : {"-curvature", "-fiber", "-fiber_file"}) {
         PetscBool given = PETSC_FALSE;
