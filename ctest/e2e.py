@@ -20,6 +20,9 @@ import numpy as np
 
 from harness import aries_cmd, csv_rows, fail, mpi_env, step_file, test_mesh
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "scripts"))
+from shape_error import shape_error as distance_to_rest  # noqa: E402
+
 ARGS = None
 
 
@@ -62,16 +65,13 @@ def read_state(base, step=None):
 
 
 def shape_error(base, rigid):
+    """Max distance of the final state to rest over L (rigid: after the best rotation + translation, for
+    free-floating bodies), via scripts/shape_error.py; and L."""
     rest, _, x, _ = read_state(base)
     if not np.all(np.isfinite(x)):
         fail("NaN/Inf in the final positions of " + base)
-    L = np.linalg.norm(rest.max(0) - rest.min(0))
-    if rigid:  # best rotation + translation (Kabsch): free-floating bodies may recover rotated
-        cr, cx = rest.mean(0), x.mean(0)
-        U, _, Vt = np.linalg.svd((x - cx).T @ (rest - cr))
-        D = np.diag([1, 1, np.sign(np.linalg.det(Vt.T @ U.T))])
-        x = ((Vt.T @ D @ U.T) @ (x - cx).T).T + cr
-    return np.linalg.norm(x - rest, axis=1).max() / L, L
+    err, _ = distance_to_rest(rest, x, rigid)
+    return err, np.linalg.norm(rest.max(0) - rest.min(0))
 
 
 def stats(path):
