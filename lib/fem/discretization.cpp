@@ -29,34 +29,21 @@ namespace {
 // Gathers (natural id, values) pairs onto rank 0 into a dense array of `total * comps` values.
 PetscErrorCode gatherNatural(MPI_Comm comm, const std::vector<PetscInt> &ids, const std::vector<double> &vals,
                              int comps, PetscInt total, std::vector<double> *out) {
-  PetscMPIInt rank, size;
+  PetscMPIInt rank;
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  PetscCallMPI(MPI_Comm_size(comm, &size));
-  int n = static_cast<int>(ids.size());
-  std::vector<int> counts(size), displs(size);
-  PetscCallMPI(MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm));
-  int totalIds = 0;
-  if (rank == 0)
-    for (int p = 0; p < size; ++p) {
-      displs[p] = totalIds;
-      totalIds += counts[p];
-    }
-  std::vector<PetscInt> allIds(rank == 0 ? totalIds : 0);
-  PetscCallMPI(MPI_Gatherv(ids.data(), n, MPIU_INT, allIds.data(), counts.data(), displs.data(), MPIU_INT, 0, comm));
-  std::vector<int> vcounts(size), vdispls(size);
-  for (int p = 0; p < size; ++p) {
-    vcounts[p] = counts[p] * comps;
-    vdispls[p] = displs[p] * comps;
+  std::vector<double> mine, all;  // per entry: id (exact as a double below 2^53), then its values
+  mine.reserve(ids.size() * (comps + 1));
+  for (size_t i = 0; i < ids.size(); ++i) {
+    mine.push_back(static_cast<double>(ids[i]));
+    mine.insert(mine.end(), vals.begin() + i * comps, vals.begin() + (i + 1) * comps);
   }
-  std::vector<double> allVals(rank == 0 ? static_cast<size_t>(totalIds) * comps : 0);
-  PetscCallMPI(MPI_Gatherv(vals.data(), n * comps, MPI_DOUBLE, allVals.data(), vcounts.data(), vdispls.data(),
-                           MPI_DOUBLE, 0, comm));
+  PetscCall(gatherOnRoot(comm, mine, &all));
   out->clear();
   if (rank == 0) {
     out->assign(static_cast<size_t>(total) * comps, 0.0);
-    for (int i = 0; i < totalIds; ++i)
-      for (int k = 0; k < comps; ++k) (*out)[static_cast<size_t>(allIds[i]) * comps + k] = allVals[i * comps + k];
+    for (size_t e = 0; e < all.size(); e += comps + 1)
+      std::copy_n(&all[e + 1], comps, &(*out)[static_cast<size_t>(all[e]) * comps]);
   }
   PetscFunctionReturn(0);
 }

@@ -433,6 +433,25 @@ PetscErrorCode sumOverSharedVertices(const Mesh &mesh, int ncomp, std::vector<do
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode gatherOnRoot(MPI_Comm comm, const std::vector<double> &mine, std::vector<double> *all) {
+  PetscMPIInt rank, size;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  const int n = static_cast<int>(mine.size());
+  std::vector<int> counts(size), displs(size);
+  PetscCallMPI(MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm));
+  int total = 0;
+  if (rank == 0)
+    for (int p = 0; p < size; ++p) {
+      displs[p] = total;
+      total += counts[p];
+    }
+  all->assign(rank == 0 ? total : 0, 0.0);
+  PetscCallMPI(MPI_Gatherv(mine.data(), n, MPI_DOUBLE, all->data(), counts.data(), displs.data(), MPI_DOUBLE, 0, comm));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode cellVertices(const Mesh &mesh, PetscInt c, std::vector<PetscInt> *vertices) {
   PetscInt ncl, *closure = nullptr;
   PetscFunctionBeginUser;

@@ -61,6 +61,9 @@ PetscErrorCode sharedLeafPoints(DM dm, std::vector<char> *leaf);
 // (index v - vStart); on return every copy holds the total. Collective.
 PetscErrorCode sumOverSharedVertices(const Mesh &mesh, int ncomp, std::vector<double> *values);
 
+// Concatenates every rank's `mine` on rank 0, in rank order (`all` is empty elsewhere). Collective.
+PetscErrorCode gatherOnRoot(MPI_Comm comm, const std::vector<double> &mine, std::vector<double> *all);
+
 // The local vertices (index v - vStart) of local cell c, in closure order. Not collective.
 PetscErrorCode cellVertices(const Mesh &mesh, PetscInt c, std::vector<PetscInt> *vertices);
 

@@ -15,12 +15,11 @@ namespace aries::fem {
 
 PetscErrorCode tutteEmbedding(const Mesh &mesh, std::vector<Eigen::Vector2d> *uv) {
   MPI_Comm comm;
-  PetscMPIInt rank, size;
+  PetscMPIInt rank;
   DM dm = mesh.dm;
   PetscFunctionBeginUser;
   PetscCall(PetscObjectGetComm((PetscObject)dm, &comm));
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  PetscCallMPI(MPI_Comm_size(comm, &size));
   if (mesh.topoDim != 2)
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "-initial tutte needs a triangle surface mesh ('%s' has %d-dimensional cells)",
             mesh.filename.c_str(), (int)mesh.topoDim);
@@ -66,17 +65,8 @@ PetscErrorCode tutteEmbedding(const Mesh &mesh, std::vector<Eigen::Vector2d> *uv
     mine.insert(mine.end(), {(double)a, (double)b, (restOf(from) - restOf(to)).norm()});
   }
   PetscCall(VecRestoreArrayRead(coords, &X));
-  int n = static_cast<int>(mine.size());
-  std::vector<int> counts(size), displs(size);
-  PetscCallMPI(MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm));
-  int total = 0;
-  if (rank == 0)
-    for (int p = 0; p < size; ++p) {
-      displs[p] = total;
-      total += counts[p];
-    }
-  std::vector<double> all(rank == 0 ? total : 0);
-  PetscCallMPI(MPI_Gatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, 0, comm));
+  std::vector<double> all;
+  PetscCall(gatherOnRoot(comm, mine, &all));
 
   // Rank 0: walk the loop, place it on a circle.
   std::vector<double> placed;  // (natural id, u, v) triples
