@@ -122,6 +122,26 @@ def case_inside_out(mode):
         fail("inside-out not recovered: %.3e L" % err)
 
 
+def case_inside_out_gamg():
+    """The inside-out recovery with CG + GAMG (rigid-body near-nullspace): every linear solve converges and the
+    shape is recovered (<= 1e-3 L). With PETSc's GAMG defaults the smoothers keep eigenvalue bounds from the first
+    Hessian, the preconditioner turns indefinite once the elements enter the mollifier's blend band, and step 1
+    fails (0.44 L); aries turns -pc_gamg_use_sa_esteig off."""
+    tag = "inside_out_gamg_np%d" % ARGS.ranks
+    log, _ = run(["-dm_plex_filename", mesh("bunny"), "-energy", "iarap", "-E", "1e4", "-nu", "0", "-initial",
+                  "invert", "-integrator", "beuler", "-dt", "0.2", "-steps", "60", "-ksp_type", "cg", "-pc_type",
+                  "gamg", "-dm_mat_type", "aij", "-ksp_converged_reason", "-output", out_base(tag), "-output_every",
+                  "60", "-stats", out_base(tag) + ".csv"], tag=tag)
+    failed_solves = len(re.findall(r"Linear solve did not converge", log))
+    err, _ = shape_error(out_base(tag), rigid=True)
+    print("failed linear solves %d; final distance to rest (rigidly aligned) %.3e L (limit 1e-3)" % (failed_solves,
+                                                                                                    err))
+    if failed_solves:
+        fail("%d linear solves did not converge with GAMG" % failed_solves)
+    if not err <= 1e-3:
+        fail("inside-out not recovered with GAMG: %.3e L" % err)
+
+
 def case_cylinder_reaction():
     """Cylinder pulled by strain 1e-3 (nu = 0, both ends clamped): reaction = E A eps of linear elasticity within 2%
     (A = mesh volume / length, the discrete cross-section)."""
@@ -223,6 +243,33 @@ def case_kim_aa_fails():
     _, _, x, _ = read_state(out_base(tag))
     if not np.all(np.isfinite(x)):
         fail("the written state is not finite")
+
+
+def case_no_false_convergence():
+    """A Newton step from a linear solve that did not converge is not a convergence test pass: the collapsed
+    armadillo (every free vertex on a line) with CG + GAMG without the near-nullspace and GAMG's stale smoother
+    bounds (-pc_gamg_use_sa_esteig true, PETSc's default that aries turns off) gets DIVERGED_INDEFINITE_PC solves
+    whose short steps used to satisfy the |step| criterion at 0.38 L from rest ("newton_step"). Now the step must
+    end either recovered (<= 1e-3 L) or reported as failed."""
+    tag = "false_convergence"
+    log, code = run(["-dm_plex_filename", mesh("armadillo"), "-energy", "iarap", "-E", "1e5", "-nu", "0",
+                     "-bc_clamp", "hands_feet", "-initial", "collapse_line", "-integrator", "static", "-steps", "1",
+                     "-snes_max_it", "60", "-ksp_type", "cg", "-pc_type", "gamg", "-dm_mat_type", "aij",
+                     "-near_nullspace", "none", "-pc_gamg_use_sa_esteig", "true", "-ksp_converged_reason", "-output", out_base(tag),
+                     "-stats", out_base(tag) + ".csv"], expect_code=None, tag=tag)
+    failed_solves = len(re.findall(r"Linear solve did not converge", log))
+    if failed_solves == 0:
+        fail("precondition: no linear solve failed, so this case no longer exercises the check (log tail:\n%s)"
+             % log[-2000:])
+    reason = stats(out_base(tag) + ".csv")[-1]["reason"]
+    err, _ = shape_error(out_base(tag), rigid=False)
+    print("failed linear solves %d; exit code %d; reason '%s'; distance to rest %.3e L" % (failed_solves, code,
+                                                                                        reason, err))
+    converged = not reason.startswith("diverged")
+    if converged and not err <= 1e-3:
+        fail("reported converged ('%s') at %.3e L from the rest shape" % (reason, err))
+    if not converged and code != 3:
+        fail("the failed step should end the run with exit code 3 (-on_failure stop), got %d" % code)
 
 
 def case_options_file(name):
@@ -481,12 +528,14 @@ CASES = {
     "scramble": case_scramble,
     "inside_out_mollifier": lambda: case_inside_out("mollifier"),
     "inside_out_barrier": lambda: case_inside_out("barrier"),
+    "inside_out_gamg": case_inside_out_gamg,
     "cylinder_reaction": case_cylinder_reaction,
     "ortho_cube": case_ortho_cube,
     "ranks_agree": case_ranks_agree,
     "safeguard_basic": lambda: case_safeguard("basic"),
     "safeguard_l2": lambda: case_safeguard("l2"),
     "kim_aa_fails": case_kim_aa_fails,
+    "no_false_convergence": case_no_false_convergence,
     "cloth_hang": case_cloth_hang,
     "cloth_sphere": case_cloth_sphere,
     "cloth_appendix_d": case_cloth_appendix_d,

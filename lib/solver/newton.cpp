@@ -127,7 +127,13 @@ PetscErrorCode NewtonSolver::convergenceTest(SNES snes, PetscInt it, PetscReal x
   auto *self = static_cast<NewtonSolver *>(ctx);
   PetscFunctionBeginUser;
   PetscCall(SNESConvergedDefault(snes, it, xnorm, snorm, fnorm, reason, nullptr));
-  if (*reason == SNES_CONVERGED_ITERATING && it > 0 && self->lastStepInf_ >= 0.0 &&
+  // A short step only means convergence if it is a Newton step: a CG stopped early (iteration limit, or
+  // DIVERGED_INDEFINITE_PC from a multigrid smoother) returns a short direction far from the solution.
+  KSP ksp;
+  KSPConvergedReason linearReason = KSP_CONVERGED_ITERATING;
+  PetscCall(SNESGetKSP(snes, &ksp));
+  if (it > 0) PetscCall(KSPGetConvergedReason(ksp, &linearReason));
+  if (*reason == SNES_CONVERGED_ITERATING && it > 0 && linearReason > 0 && self->lastStepInf_ >= 0.0 &&
       self->lastStepInf_ <= self->stepTol_)
   {
     *reason = SNES_CONVERGED_SNORM_RELATIVE;  // the paper's criterion: |Newton step|_inf <= newton_tol L (dt)
@@ -160,6 +166,27 @@ PetscErrorCode NewtonSolver::attachNearNullSpace() {
   PetscCall(MatSetNearNullSpace(J_, nsp));
   PetscCall(MatNullSpaceDestroy(&nsp));
   PetscCall(VecDestroy(&coords));
+  PetscFunctionReturn(0);
+}
+
+// GAMG keeps its prolongators across Newton iterations (-pc_gamg_reuse_interpolation) and by default also the
+// Chebyshev smoothers' eigenvalue bounds estimated with them at the first setup. Newton's Hessians change spectrum
+// from one iteration to the next (an inside-out start stiffens by orders of magnitude in the mollifier's blend
+// band), so a stale upper bound makes the smoother amplify high modes: CG stops with DIVERGED_INDEFINITE_PC. With
+// -pc_gamg_use_sa_esteig false each smoother re-estimates its bounds on the new operator (a few Krylov iterations).
+PetscErrorCode NewtonSolver::configureMultigrid() {
+  KSP ksp;
+  PC pc;
+  PetscBool isGamg, userSet;
+  const char *prefix;
+  PetscFunctionBeginUser;
+  PetscCall(SNESGetKSP(snes_, &ksp));
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCGAMG, &isGamg));
+  if (!isGamg) PetscFunctionReturn(0);
+  PetscCall(PCGetOptionsPrefix(pc, &prefix));
+  PetscCall(PetscOptionsHasName(nullptr, prefix, "-pc_gamg_use_sa_esteig", &userSet));
+  if (!userSet) PetscCall(PCGAMGSetUseSAEstEig(pc, PETSC_FALSE));
   PetscFunctionReturn(0);
 }
 
@@ -216,6 +243,7 @@ PetscErrorCode NewtonSolver::setup(fem::Discretization &disc, bool dynamic, doub
   PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHBT));
   PetscCall(SNESSetConvergenceTest(snes_, convergenceTest, this, nullptr));
   PetscCall(SNESSetFromOptions(snes_));
+  PetscCall(configureMultigrid());
   // Hooks after SetFromOptions so a user-chosen line search type keeps them.
   PetscCall(SNESGetLineSearch(snes_, &ls));
   PetscCall(SNESLineSearchSetPreCheck(ls, preCheck, this));

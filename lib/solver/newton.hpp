@@ -45,6 +45,7 @@ class NewtonSolver {
 
  private:
   PetscErrorCode attachNearNullSpace();
+  PetscErrorCode configureMultigrid();
   static PetscErrorCode objectiveCallback(SNES, Vec, PetscReal *, void *);
   static PetscErrorCode boundaryLocal(DM, Vec, void *);
   static PetscErrorCode functionLocal(DM, Vec, Vec, void *);
