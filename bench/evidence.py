@@ -849,6 +849,9 @@ def main():
     os.makedirs(WORK, exist_ok=True)
     os.makedirs(IMG, exist_ok=True)
     load0 = open("/proc/loadavg").read().split()[:3]
+    # Checked before the run: the run itself rewrites bench/results/kernels.* and the PNGs.
+    dirty = subprocess.run(["git", "-C", ROOT, "status", "--porcelain", "--untracked-files=no"], capture_output=True,
+                           text=True).stdout.strip()
     t0 = time.monotonic()
     sections = {1: section_speed_accuracy, 2: section_stability, 3: section_solvers, 4: section_scaling,
                 5: section_kernels}
@@ -866,8 +869,6 @@ def main():
     mem = open("/proc/meminfo").readline().split()[1]
     commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True,
                             text=True).stdout.strip()
-    dirty = subprocess.run(["git", "-C", ROOT, "status", "--porcelain", "--untracked-files=no"], capture_output=True,
-                           text=True).stdout.strip()
     s1 = SUMMARY["scaling"][1] if "scaling" in SUMMARY else None
     s2 = SUMMARY["scaling"][2] if "scaling" in SUMMARY else None
     head = ["# aries: evidence (speed, accuracy, stability, solvers, scaling, kernels)\n",
@@ -876,11 +877,11 @@ def main():
                 a.mode, datetime.datetime.utcnow().strftime("%Y-%m-%d %H:%M"), (time.monotonic() - t0) / 60,
                 "; ".join(timing)),
             "**Machine:** %s; %.1f GB RAM; STREAM triad %s; load average (1/5/15 min) %s at the start, %s at the end "
-            "(the machine is shared: another engineer was building and testing, so timings are noisy); commit %s%s; "
+            "(%d cores: a load above %d means other jobs competed with this run and its timings are noisy); commit %s%s; "
             "build `%s` (Release).\n" % (
                 scenes.machine_line(1).replace("1 MPI ranks on ", ""), int(mem) / 1024 / 1024,
                 "%.1f GB/s (1 copy), %.1f GB/s (2 concurrent copies)" % (s1, s2) if s1 else "not measured (section 4 not run)", " ".join(load0),
-                " ".join(load1), commit, " + uncommitted changes" if dirty else "", os.path.relpath(a.build, ROOT)),
+                " ".join(load1), os.cpu_count(), os.cpu_count(), commit, " + uncommitted changes" if dirty else "", os.path.relpath(a.build, ROOT)),
             "**Paper:** 20-core 3.8 GHz Intel i9, Eigen PCG + diagonal preconditioner (Table 1/2). Mode `%s`: %s\n" % (
                 a.mode, "reduced sizes, steps and tolerances so the whole run fits in 15 minutes on 2 cores; every "
                 "reduction is stated in its section. `bench/run full` runs the larger configuration and writes "
