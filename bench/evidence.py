@@ -57,7 +57,7 @@ MODES = {
         cyl_big_methods=["iarap (mollifier)", "iarap (barrier)", "iarap_lin", "arap_svd"], cyl_big_tols=[1e-2, 1e-4],
         arm_meshes=["test"], arm_big_methods=None, arm_big_tols=None,
         cloth_meshes=["test"], cloth_steps=20, cloth_tols=[1e-1, 1e-2, 1e-3], cloth_ref_tol=1e-5,
-        stab_scramble=[("armadillo", "test"), ("cylinder", "test"), ("cube", "test")], stab_seeds=[1, 2],
+        stab_scramble=[("armadillo", "test"), ("cylinder", "test"), ("cube", "test")], stab_seeds=[1, 2, 3, 4, 5],
         stab_mesh="test", stab_max_it=200, stab_timeout=60,
         # (scene, mesh size, steps, extra options, only these solvers (None: all), -snes_max_it (None: solver_max_it)
         #  [, time limit in s (default solver_timeout)]).
