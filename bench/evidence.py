@@ -854,7 +854,10 @@ def main():
     os.makedirs(WORK, exist_ok=True)
     os.makedirs(IMG, exist_ok=True)
     load0 = open("/proc/loadavg").read().split()[:3]
-    # Checked before the run: the run itself rewrites bench/results/kernels.* and the PNGs.
+    # Checked before the run: the run itself rewrites bench/results/kernels.* and the PNGs, and a commit made
+    # while a long run is under way must not be credited with its numbers.
+    commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True,
+                            text=True).stdout.strip()
     dirty = subprocess.run(["git", "-C", ROOT, "status", "--porcelain", "--untracked-files=no"], capture_output=True,
                            text=True).stdout.strip()
     t0 = time.monotonic()
@@ -872,8 +875,6 @@ def main():
         timing.append("section %d: %.0f s" % (k, time.monotonic() - ts))
     load1 = open("/proc/loadavg").read().split()[:3]
     mem = open("/proc/meminfo").readline().split()[1]
-    commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True,
-                            text=True).stdout.strip()
     s1 = SUMMARY["scaling"][1] if "scaling" in SUMMARY else None
     s2 = SUMMARY["scaling"][2] if "scaling" in SUMMARY else None
     head = ["# aries: evidence (speed, accuracy, stability, solvers, scaling, kernels)\n",
