@@ -13,6 +13,7 @@ import argparse
 import csv
 import datetime
 import glob
+import json
 import math
 import os
 import re
@@ -40,6 +41,12 @@ from harness import aries_cmd, mpi_env  # noqa: E402  (how aries is launched)
 from shape_error import shape_error  # noqa: E402  (distance to rest / L)
 
 WORK = os.path.join(ROOT, "out", "evidence")
+# REUSE=1 (bench/run) / --reuse: a run whose directory holds the same command line and a meta.json from a finished
+# earlier run is read back instead of run again, so a report can be re-rendered after a change to this script without
+# hours of solves. The report says how many runs were reused and when they were made.
+REUSE = False
+REUSED = []  # meta.json contents of the reused runs
+COMMIT = ""  # HEAD at the start of this report, recorded in every run's meta.json
 # quick writes docs/results.md, full docs/results-full.md (set in main): a full run does not overwrite the quick report
 IMG_REL = "images/results"
 IMG = os.path.join(ROOT, "docs", IMG_REL)
@@ -119,9 +126,6 @@ class Run:
         self.tag = tag
         self.dir = os.path.join(WORK, tag)
         os.makedirs(self.dir, exist_ok=True)
-        for f in glob.glob(os.path.join(self.dir, "*")):
-            if os.path.isfile(f):
-                os.remove(f)
         self.base = os.path.join(self.dir, "state")
         stats = os.path.join(self.dir, "stats.csv")
         # output into the run's directory (scene files name their own), first and last state only
@@ -130,6 +134,11 @@ class Run:
         if wrap_time:  # peak resident memory of each rank
             cmd = cmd[:-len(full) - 1] + ["/usr/bin/time", "-f", "maxrss_kb %M"] + cmd[-len(full) - 1:]
         self.cmd = cmd
+        if REUSE and self._read_back(stats):
+            return
+        for f in glob.glob(os.path.join(self.dir, "*")):
+            if os.path.isfile(f):
+                os.remove(f)
         t0 = time.monotonic()
         p = subprocess.Popen(cmd, cwd=ROOT, env=ENV, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                              start_new_session=True)
@@ -145,13 +154,40 @@ class Run:
         self.log = out
         with open(os.path.join(self.dir, "log.txt"), "w") as fh:
             fh.write(" ".join(cmd) + "\n" + out)
+        with open(os.path.join(self.dir, "meta.json"), "w") as fh:
+            json.dump(dict(rc=self.rc, timed_out=self.timed_out, wall=self.wall, commit=COMMIT,
+                           finished=datetime.datetime.utcnow().strftime("%Y-%m-%d %H:%M"),
+                           loadavg=" ".join(open("/proc/loadavg").read().split()[:3])), fh)
         self.rows = []
         if os.path.exists(stats):
             with open(stats) as fh:
                 self.rows = list(csv.DictReader(fh))
-        print("  [%s] rc=%s%s wall=%.1fs steps=%d %s" % (tag, self.rc, " TIMEOUT" if self.timed_out else "", self.wall,
-                                                         len(self.rows), self.rows[-1]["reason"] if self.rows else ""),
-              flush=True)
+        self._report("")
+
+    def _report(self, how):
+        print("  [%s]%s rc=%s%s wall=%.1fs steps=%d %s" % (
+            self.tag, how, self.rc, " TIMEOUT" if self.timed_out else "", self.wall, len(self.rows),
+            self.rows[-1]["reason"] if self.rows else ""), flush=True)
+
+    def _read_back(self, stats):
+        """Load a finished earlier run with exactly this command line (REUSE); False if there is none."""
+        log, meta = os.path.join(self.dir, "log.txt"), os.path.join(self.dir, "meta.json")
+        if not (os.path.exists(log) and os.path.exists(meta)):
+            return False
+        with open(log) as fh:
+            first, _, rest = fh.read().partition("\n")
+        if first != " ".join(self.cmd):
+            return False
+        with open(meta) as fh:
+            m = json.load(fh)
+        self.rc, self.timed_out, self.wall, self.log = m["rc"], m["timed_out"], m["wall"], rest
+        self.rows = []
+        if os.path.exists(stats):
+            with open(stats) as fh:
+                self.rows = list(csv.DictReader(fh))
+        REUSED.append(m)
+        self._report(" reused")
+        return True
 
     def solve_seconds(self):
         return sum(float(r["wall_s"]) for r in self.rows)
@@ -187,7 +223,6 @@ def mesh(name, size):
 
 
 def mesh_cells(path):
-    import json
     with open(path[:-4] + ".json") as fh:
         j = json.load(fh)
     return j.get("tets") or j.get("triangles") or j.get("cells")
@@ -628,6 +663,12 @@ def section_solvers(cfg):
             capped = len(re.findall(r"Linear solve did not converge due to DIVERGED_ITS", r.log))
             per[slabel] = (newton, pcg, secs, len(r.rows), linfail, capped)
             linwhy = sorted(set(re.findall(r"Linear solve did not converge due to (\w+)", r.log)))
+            if not r.rows:  # not one step finished (e.g. a factorization killed at the time limit): no rates to show
+                out.append("| %s | %s %s | 0 / %d | %s | - | - | - | - | - | - | did not finish a step: %s | %s | %s | %s |"
+                           % (label, size, "{:,}".format(cells_n), total, slabel,
+                              "killed at the %.0f s time limit" % r.wall if r.timed_out else "exit code %s" % r.rc,
+                              paper[5], paper[6], paper[7]))
+                continue
             out.append("| %s | %s %s | %d / %d | %s | %.1f | %.1f | %.1f | %.2f | %.3f | %s | %s%s | %s | %s | %s |" % (
                 label, size, "{:,}".format(cells_n), len(r.rows), total, slabel, newton / k, pcg / k,
                 pcg / max(newton, 1), secs / k, secs / max(newton, 1),
@@ -681,7 +722,7 @@ def section_solvers(cfg):
         ax.grid(True, axis="y", which="both", alpha=0.3)
     fig.legend(loc="lower center", ncol=len(labels), fontsize=8)
     fig.suptitle("Linear solvers on the scenes (1 rank; MUMPS: 1 'iteration' = one direct solve; "
-                 "missing bar = not run)", fontsize=10)
+                 "missing bar = not run or no step finished)", fontsize=10)
     fig.tight_layout(rect=(0, 0.07, 1, 1))
     fig.savefig(os.path.join(IMG, "solvers.png"), dpi=110)
     plt.close(fig)
@@ -833,13 +874,27 @@ def section_kernels(cfg):
 SUMMARY = {}
 
 
+def reuse_note():
+    if not REUSED:
+        return ""
+    commits = sorted(set(m.get("commit") or "?" for m in REUSED))
+    done = sorted(m["finished"] for m in REUSED)
+    return ("**Reused runs (`REUSE=1`):** %d runs were read back from earlier runs with the same command line instead "
+            "of being run again (made at commit %s, finished %s to %s UTC, %.1f min of runs; their times are from then; the section "
+            "times above and the load averages below are those of this rendering and any runs made now).\n" % (
+                len(REUSED), ", ".join(commits), done[0], done[-1], sum(m["wall"] for m in REUSED) / 60))
+
+
 def main():
-    global ARIES, STREAM, ENV, BUILD, IMG_REL, IMG, RESULTS, WORK
+    global ARIES, STREAM, ENV, BUILD, IMG_REL, IMG, RESULTS, WORK, REUSE, COMMIT
     ap = argparse.ArgumentParser()
     ap.add_argument("mode", choices=list(MODES))
     ap.add_argument("--build", default=os.path.join(ROOT, "build-bench"))
     ap.add_argument("--sections", default="1,2,3,4,5")
+    ap.add_argument("--reuse", action="store_true",
+                    help="read back finished runs with the same command line instead of running them again")
     a = ap.parse_args()
+    REUSE = a.reuse
     cfg = dict(MODES[a.mode])
     cfg["timeout_acc"] = 300 if a.mode == "quick" else 3600
     if a.mode == "full":
@@ -856,8 +911,8 @@ def main():
     load0 = open("/proc/loadavg").read().split()[:3]
     # Checked before the run: the run itself rewrites bench/results/kernels.* and the PNGs, and a commit made
     # while a long run is under way must not be credited with its numbers.
-    commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True,
-                            text=True).stdout.strip()
+    commit = COMMIT = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True,
+                                     text=True).stdout.strip()
     dirty = subprocess.run(["git", "-C", ROOT, "status", "--porcelain", "--untracked-files=no"], capture_output=True,
                            text=True).stdout.strip()
     t0 = time.monotonic()
@@ -882,6 +937,7 @@ def main():
             "comes from that run (the paper's numbers from bench/scenes.py).\n" % (
                 a.mode, datetime.datetime.utcnow().strftime("%Y-%m-%d %H:%M"), (time.monotonic() - t0) / 60,
                 "; ".join(timing)),
+            reuse_note(),
             "**Machine:** %s; %.1f GB RAM; STREAM triad %s; load average (1/5/15 min) %s at the start, %s at the end "
             "(%d cores: a load above %d means other jobs competed with this run and its timings are noisy); commit %s%s; "
             "build `%s` (Release).\n" % (
