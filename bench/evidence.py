@@ -970,7 +970,7 @@ def main():
                         "{:,}".format(cells_n), res[1]["t"] / res[2]["t"], 100 * res[1]["frac"], 100 * res[2]["frac"],
                         " / ".join("%.0f" % (k / 1024) for k in res[2]["rss"]),
                         sum(res[2]["rss"]) * 1024 / max(res[2]["n"], 1)))
-    lines = head + summ + [""] + body
+    lines = [h for h in head if h] + summ + [""] + body  # no reuse note: no empty line
     with open(RESULTS + ".tmp", "w") as fh:
         fh.write("\n".join(lines) + "\n")
     os.replace(RESULTS + ".tmp", RESULTS)
