@@ -21,6 +21,7 @@ import signal
 import statistics
 import subprocess
 import sys
+import textwrap
 import time
 
 import h5py
@@ -704,8 +705,8 @@ def section_solvers(cfg):
                + verdict + "\n")
     SUMMARY["gamg"] = ratios
     # chart
-    fig, axs = plt.subplots(1, 2, figsize=(12, 5))
     groups = list(dict.fromkeys(c[0] for c in chart))
+    fig, axs = plt.subplots(1, 2, figsize=(max(12, 2.9 * len(groups)), 5.4))
     labels = list(dict.fromkeys(c[1] for c in chart))
     w = 0.8 / max(len(labels), 1)
     for li, lab in enumerate(labels):
@@ -717,7 +718,8 @@ def section_solvers(cfg):
     for ax, t in zip(axs, ["Linear iterations per Newton iteration", "Solve cost per Newton iteration"]):
         ax.set_yscale("log")
         ax.set_xticks(np.arange(len(groups)) + 0.4 - w / 2)
-        ax.set_xticklabels(groups, fontsize=8)
+        # wrap each label line so neighbouring groups' labels never overlap
+        ax.set_xticklabels(["\n".join(textwrap.fill(part, 16) for part in g.split("\n")) for g in groups], fontsize=8)
         ax.set_title(t, fontsize=10)
         ax.grid(True, axis="y", which="both", alpha=0.3)
     fig.legend(loc="lower center", ncol=len(labels), fontsize=8)
