@@ -719,7 +719,7 @@ def section_solvers(cfg):
         ax.set_yscale("log")
         ax.set_xticks(np.arange(len(groups)) + 0.4 - w / 2)
         # wrap each label line so neighbouring groups' labels never overlap
-        ax.set_xticklabels(["\n".join(textwrap.fill(part, 16) for part in g.split("\n")) for g in groups], fontsize=8)
+        ax.set_xticklabels(["\n".join(textwrap.fill(part, 18, break_long_words=False) for part in g.split("\n")) for g in groups], fontsize=8)
         ax.set_title(t, fontsize=10)
         ax.grid(True, axis="y", which="both", alpha=0.3)
     fig.legend(loc="lower center", ncol=len(labels), fontsize=8)
