@@ -159,11 +159,14 @@ class Run:
             json.dump(dict(rc=self.rc, timed_out=self.timed_out, wall=self.wall, commit=COMMIT,
                            finished=datetime.datetime.utcnow().strftime("%Y-%m-%d %H:%M"),
                            loadavg=" ".join(open("/proc/loadavg").read().split()[:3])), fh)
+        self._read_stats(stats)
+        self._report("")
+
+    def _read_stats(self, stats):
         self.rows = []
         if os.path.exists(stats):
             with open(stats) as fh:
                 self.rows = list(csv.DictReader(fh))
-        self._report("")
 
     def _report(self, how):
         print("  [%s]%s rc=%s%s wall=%.1fs steps=%d %s" % (
@@ -182,10 +185,7 @@ class Run:
         with open(meta) as fh:
             m = json.load(fh)
         self.rc, self.timed_out, self.wall, self.log = m["rc"], m["timed_out"], m["wall"], rest
-        self.rows = []
-        if os.path.exists(stats):
-            with open(stats) as fh:
-                self.rows = list(csv.DictReader(fh))
+        self._read_stats(stats)
         REUSED.append(m)
         self._report(" reused")
         return True
@@ -660,10 +660,9 @@ def section_solvers(cfg):
             newton = r.sum("newton_its") if r.rows else 0
             pcg = r.sum("ksp_its") if r.rows else 0
             secs = r.solve_seconds()
-            linfail = len(re.findall(r"Linear solve did not converge due to (\w+)", r.log))
-            capped = len(re.findall(r"Linear solve did not converge due to DIVERGED_ITS", r.log))
-            per[slabel] = (newton, pcg, secs, len(r.rows), linfail, capped)
-            linwhy = sorted(set(re.findall(r"Linear solve did not converge due to (\w+)", r.log)))
+            unconverged = re.findall(r"Linear solve did not converge due to (\w+)", r.log)
+            linfail, linwhy = len(unconverged), sorted(set(unconverged))
+            per[slabel] = (newton, pcg, secs, len(r.rows), linfail, unconverged.count("DIVERGED_ITS"))
             if not r.rows:  # not one step finished (e.g. a factorization killed at the time limit): no rates to show
                 out.append("| %s | %s %s | 0 / %d | %s | - | - | - | - | - | - | did not finish a step: %s | %s | %s | %s |"
                            % (label, size, "{:,}".format(cells_n), total, slabel,
@@ -719,7 +718,8 @@ def section_solvers(cfg):
         ax.set_yscale("log")
         ax.set_xticks(np.arange(len(groups)) + 0.4 - w / 2)
         # wrap each label line so neighbouring groups' labels never overlap
-        ax.set_xticklabels(["\n".join(textwrap.fill(part, 18, break_long_words=False) for part in g.split("\n")) for g in groups], fontsize=8)
+        ax.set_xticklabels(["\n".join(textwrap.fill(part, 18, break_long_words=False) for part in g.split("\n"))
+                            for g in groups], fontsize=8)
         ax.set_title(t, fontsize=10)
         ax.grid(True, axis="y", which="both", alpha=0.3)
     fig.legend(loc="lower center", ncol=len(labels), fontsize=8)
