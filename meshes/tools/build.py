@@ -8,11 +8,12 @@
                                        NAME_SIZE.targets for the bunny)
                                        and OUTDIR/NAME_SIZE.json (statistics); log on stderr
 
-Two kinds of mesh: tetrahedral volume meshes (cylinder, cube, armadillo, bunny, octopus; z-up, every
-tet positively oriented and in a physical volume) and triangle surface meshes in 3D (cloth, disk,
-lionhead, nefertiti; every triangle in a physical surface, consistently oriented, boundary edges as
-physical curves). Outputs are deterministic: gmsh runs single-threaded in a fixed sandbox with ASLR
-off (see GMSH_SANDBOX), and all post-processing is plain numpy in a fixed order.
+Two kinds of mesh: tetrahedral volume meshes (cylinder, cube, armadillo, bunny, octopus,
+triceratops, hand; z-up, every tet positively oriented and in a physical volume) and triangle
+surface meshes in 3D (cloth, disk, lionhead, nefertiti; every triangle in a physical surface,
+consistently oriented, boundary edges as physical curves). Outputs are deterministic: gmsh runs
+single-threaded in a fixed sandbox with ASLR off (see GMSH_SANDBOX), and all post-processing is
+plain numpy in a fixed order.
 """
 
 import fcntl
@@ -77,6 +78,17 @@ CATALOG = {
         "default": {"hmax": 0.106, "ncurv": 27, "tets": 314819},
         "paper": {"alias": "default"},
     },
+    # closed CGAL surfaces beyond the paper's scenes: shapes the solver was not developed on
+    "triceratops": {
+        "test": {"h": 0.038, "tets": 4620},
+        "default": {"h": 0.019, "tets": 30238},
+        "paper": {"alias": "default"},
+    },
+    "hand": {
+        "test": {"h": 0.062, "tets": 4622},
+        "default": {"h": 0.031, "tets": 34096},
+        "paper": {"alias": "default"},
+    },
     # triangle surface meshes
     "cloth": {
         "test": {"n": 16, "triangles": 2 * 16 ** 2},
@@ -106,6 +118,8 @@ PAPER = {  # the paper's meshes (Table 1: tets, Table 2: cloth triangles), for t
     "armadillo": "34,992",
     "bunny": "637,584",
     "octopus": "308,200",
+    "triceratops": "(not in the paper)",
+    "hand": "(not in the paper)",
     "cloth": "32,768",
     "disk": "(not in the paper)",
     "lionhead": "Fig. 14 (count not given)",
@@ -220,6 +234,8 @@ def read_geo(name):
 SOURCE_SHA256 = {
     "data/meshes/armadillo.off": "6f7f3ca1abc506569466b72f2f59d49493a284e7376d7a7e23c08115ec8cec4e",
     "data/meshes/bunny00.off": "ab651cb04955c161efaeb079035a1e5e1f0e0d1f816a2df67beaea68f393ff2b",
+    "data/meshes/triceratops.off": "0fb444933884486a09eb4329a832f15ab792590f2a5bb75385d157e654ddbf5c",
+    "data/meshes/hand.off": "cfcf1562726167ca704a091a8651bfd1d72f6eb96b4b2819321f0520721b35c7",
     "data/meshes/lion-head.off": "cf159eeb12a3f3f345e57448693e9f0d115f3f6f38fd1d4519b336cede849289",
     "data/meshes/nefertiti.off": "d8b13239b988d0262fbc91e88da1d314eeb1b284c327a3fe76089c2b54886ccf",
 }
@@ -377,6 +393,36 @@ def build_bunny(p):
         "transform": "rotated y-up -> z-up: (x,y,z) -> (x,-z,y)",
         "h": p["h"],
     }
+
+
+# Closed CGAL surfaces the paper's scenes do not use, to run the solver on unfamiliar shapes. Both
+# are checked like the armadillo and bunny (closed, edge-manifold, Euler characteristic 2, outward),
+# scaled to a bounding-box diagonal of ~1.4-1.6, rotated y-up -> z-up and remeshed the same way.
+# Only the physical volume 1 "body": no boundary groups (pin with -bc_box).
+#   triceratops: a standing quadruped (horns, frill, tapering tail), source units ~18 long;
+#   hand: a clenched fist cut flat at the wrist, source already normalised to a largest extent of 1.
+TRICERATOPS_SCALE = 0.07
+HAND_SCALE = 1.0
+
+
+def build_cgal_solid(member, scale, p):
+    V, F, tar = checked_surface(member, scale)
+    m = mk.TetMesh(*remeshed_surface_volume(V, F, p["h"]))
+    m.drop_unused_nodes()
+    m.orient()
+    return m, {}, {
+        "source": tar + ":" + member,
+        "transform": "scaled by %g, rotated y-up -> z-up: (x,y,z) -> (x,-z,y)" % scale,
+        "h": p["h"],
+    }
+
+
+def build_triceratops(p):
+    return build_cgal_solid("data/meshes/triceratops.off", TRICERATOPS_SCALE, p)
+
+
+def build_hand(p):
+    return build_cgal_solid("data/meshes/hand.off", HAND_SCALE, p)
 
 
 def build_octopus(p):
@@ -543,7 +589,8 @@ def build_nefertiti(p):
 
 
 BUILDERS = {"cylinder": build_cylinder, "cube": build_cube, "armadillo": build_armadillo,
-            "bunny": build_bunny, "octopus": build_octopus, "cloth": build_cloth, "disk": build_disk,
+            "bunny": build_bunny, "octopus": build_octopus, "triceratops": build_triceratops,
+            "hand": build_hand, "cloth": build_cloth, "disk": build_disk,
             "lionhead": build_lionhead, "nefertiti": build_nefertiti}
 
 
@@ -576,18 +623,18 @@ def build(name, size, outdir):
 
 
 def listing():
-    print("%-10s %-8s %-5s %-8s %-22s %s" % ("name", "size", "kind", "cells", "parameters",
+    print("%-11s %-8s %-5s %-8s %-22s %s" % ("name", "size", "kind", "cells", "parameters",
                                                   "paper (Table 1 tets, Table 2 triangles)"))
     for name, sizes in CATALOG.items():
         paper_size = resolve(name, "paper")
         cells = "tets" if kind(name) == "tet" else "triangles"
         for size, p in sizes.items():
             if "alias" in p:
-                print("%-10s %-8s %-5s %-8s %-22s" % (name, size, kind(name), "", "= " + p["alias"]))
+                print("%-11s %-8s %-5s %-8s %-22s" % (name, size, kind(name), "", "= " + p["alias"]))
                 continue
             par = " ".join("%s=%g" % (k, v) for k, v in p.items() if k != cells) or "source mesh"
             paper = PAPER[name] if size == paper_size else ("292,476 (Fig. 15)" if size == "fig15" else "")
-            print("%-10s %-8s %-5s %-8s %-22s %s" % (name, size, kind(name), p.get(cells, "?"), par, paper))
+            print("%-11s %-8s %-5s %-8s %-22s %s" % (name, size, kind(name), p.get(cells, "?"), par, paper))
 
 
 def main(argv):
