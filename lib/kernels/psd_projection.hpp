@@ -1,6 +1,13 @@
-// Projection of a symmetric F-space Hessian to the nearest positive semi-definite matrix (eigenvalues clamped at 0).
-// The element Hessian is B^T H_F B with B = dvec(F)/dx constant per element, so projecting H_F (9x9, 6x6, 4x4) is
-// enough for a PSD element matrix and much cheaper than projecting the 12x12 / 9x9 / 6x6 element matrix.
+// Eigenvalue filtering of a symmetric F-space Hessian for projected Newton. The element Hessian is B^T H_F B with
+// B = dvec(F)/dx constant per element, so filtering H_F (9x9, 6x6, 4x4) is enough for a PSD element matrix and much
+// cheaper than filtering the 12x12 / 9x9 / 6x6 element matrix.
+//
+// Filters (Newton solver option -psd_projection, docs/options.md):
+//   Clamp  negative eigenvalues -> 0: the nearest PSD matrix (Teran et al. 2005, the classic projected Newton);
+//   Abs    negative eigenvalues -> |lambda| (Chen et al. 2024, "Stabler Neo-Hookean Simulation: Absolute Eigenvalue
+//          Filtering for Projected Newton"): a negative-curvature mode keeps its magnitude, so the Newton step along it
+//          is as short as the local curvature says instead of being limited by the other terms only;
+//   None   the true Hessian (symmetrized), indefinite where the energy is not convex.
 #pragma once
 
 #include "kernels/types.hpp"
@@ -9,9 +16,12 @@
 
 namespace aries::kernels {
 
+enum class EigenFilter { Clamp, Abs, None };
+
 template <int N>
-inline Mat<N, N> projectToPSD(const Mat<N, N> &H) {
+inline Mat<N, N> filterEigenvalues(const Mat<N, N> &H, EigenFilter filter) {
   const Mat<N, N> Hs = 0.5 * (H + H.transpose());
+  if (filter == EigenFilter::None) return Hs;
   // Already positive definite (common near rest): a Cholesky factorization is ~20x cheaper than an eigensolve.
   Eigen::LLT<Mat<N, N>> llt(Hs);
   if (llt.info() == Eigen::Success) return Hs;
@@ -19,7 +29,14 @@ inline Mat<N, N> projectToPSD(const Mat<N, N> &H) {
   const Vec<N> &lam = eig.eigenvalues();
   if (lam[0] >= 0.0) return Hs;
   const Mat<N, N> &Q = eig.eigenvectors();
-  return Q * lam.cwiseMax(0.0).asDiagonal() * Q.transpose();
+  const Vec<N> filtered = filter == EigenFilter::Abs ? Vec<N>(lam.cwiseAbs()) : Vec<N>(lam.cwiseMax(0.0));
+  return Q * filtered.asDiagonal() * Q.transpose();
+}
+
+// The nearest PSD matrix (eigenvalues clamped at 0).
+template <int N>
+inline Mat<N, N> projectToPSD(const Mat<N, N> &H) {
+  return filterEigenvalues<N>(H, EigenFilter::Clamp);
 }
 
 }  // namespace aries::kernels

@@ -3,7 +3,7 @@
 //    the raw invariant above 3 eps; C1 (in fact C2) across alpha = eps and alpha = 3 eps along a smooth path,
 //  * aberration barrier: FD inside (0, eps); b, b', b'' vanish at eps; b -> +inf as alpha -> 0+; +inf at alpha <= 0,
 //  * kim_aa (Kim 2019 Psi_AA) jumps by 4 mu sqrt(I5) where I4 of a basis direction changes sign; iarap does not,
-//  * PSD projection: PSD output, unchanged for PSD input.
+//  * PSD projection: PSD output, unchanged for PSD input; absolute-value filtering flips the negative eigenvalues.
 #include "kernels/aberration_barrier.hpp"
 #include "kernels/mollifier.hpp"
 #include "kernels/psd_projection.hpp"
@@ -404,17 +404,23 @@ TEST(KimAA, JumpsByFourMuSqrtI5WhereI4ChangesSign_Planar) { kimJump<2>(); }
 
 // ---- PSD projection -----------------------------------------------------------------------------------------------------
 
+// Indefinite symmetric matrix with known spectrum: Q diag(lam) Q^T, Q random orthogonal, about half the eigenvalues
+// negative, magnitudes over six decades.
+template <int N>
+Mat<N, N> knownSpectrum(Rng &rng, Mat<N, N> *Q, Vec<N> *lam) {
+  const Eigen::HouseholderQR<Mat<N, N>> qr(rng.gaussMat<N, N>());
+  *Q = qr.householderQ();
+  for (int i = 0; i < N; ++i) (*lam)[i] = (i % 2 ? -1.0 : 1.0) * std::pow(10.0, rng.uniform(-3.0, 3.0));
+  return *Q * lam->asDiagonal() * Q->transpose();
+}
+
 template <int N>
 void psdProjection() {
   Rng rng(seedOf("psd " + std::to_string(N)));
   for (int trial = 0; trial < 20; ++trial) {
-    // Indefinite symmetric matrix with known spectrum: Q diag(lam) Q^T, about half the eigenvalues negative.
-    const Mat<N, N> A = rng.gaussMat<N, N>();
-    const Eigen::HouseholderQR<Mat<N, N>> qr(A);
-    const Mat<N, N> Q = qr.householderQ();
+    Mat<N, N> Q;
     Vec<N> lam;
-    for (int i = 0; i < N; ++i) lam[i] = (i % 2 ? -1.0 : 1.0) * std::pow(10.0, rng.uniform(-3.0, 3.0));
-    const Mat<N, N> H = Q * lam.asDiagonal() * Q.transpose();
+    const Mat<N, N> H = knownSpectrum<N>(rng, &Q, &lam);
     const Mat<N, N> P = projectToPSD<N>(H);
     const double scale = H.norm();
     Eigen::SelfAdjointEigenSolver<Mat<N, N>> eig(P);
@@ -436,6 +442,39 @@ void psdProjection() {
     EXPECT_LT((projectToPSD<N>(S) - S).norm(), 1e-13 * S.norm());
   }
 }
+
+// Absolute-value filtering (Chen et al. 2024): the negative eigenvalues flipped, the eigenvectors kept; None returns
+// the symmetric part; both Clamp and Abs leave a positive definite matrix unchanged.
+template <int N>
+void eigenFilters() {
+  Rng rng(seedOf("eigen filters " + std::to_string(N)));
+  for (int trial = 0; trial < 20; ++trial) {
+    Mat<N, N> Q;
+    Vec<N> lam;
+    const Mat<N, N> H = knownSpectrum<N>(rng, &Q, &lam);
+    const double scale = H.norm();
+    const Mat<N, N> absH = filterEigenvalues<N>(H, EigenFilter::Abs);
+    const Mat<N, N> expected = Q * lam.cwiseAbs().asDiagonal() * Q.transpose();
+    EXPECT_LT((absH - expected).norm(), 1e-12 * scale) << "trial " << trial;
+    recordError("abs eigenvalue filter vs |spectrum| N=" + std::to_string(N), (absH - expected).norm() / scale);
+    // abs - clamp = the flipped negative part, PSD; abs(H) is at least as stiff as clamp(H) in every direction.
+    Eigen::SelfAdjointEigenSolver<Mat<N, N>> diff(absH - filterEigenvalues<N>(H, EigenFilter::Clamp));
+    EXPECT_GE(diff.eigenvalues().minCoeff(), -1e-12 * scale);
+    Mat<N, N> nonsym = H, sym = H;
+    nonsym(0, N - 1) += 1.0;
+    sym(0, N - 1) += 0.5;
+    sym(N - 1, 0) += 0.5;
+    EXPECT_LT((filterEigenvalues<N>(nonsym, EigenFilter::None) - sym).norm(), 1e-14 * scale);
+    const Mat<N, N> B = rng.gaussMat<N, N>();
+    const Mat<N, N> S = B * B.transpose() + Mat<N, N>::Identity();
+    EXPECT_LT((filterEigenvalues<N>(S, EigenFilter::Abs) - S).norm(), 1e-15 * S.norm());
+    EXPECT_LT((filterEigenvalues<N>(S, EigenFilter::Clamp) - S).norm(), 1e-15 * S.norm());
+  }
+}
+
+TEST(EigenFilter, AbsFlipsNegativeEigenvalues_4) { eigenFilters<4>(); }
+TEST(EigenFilter, AbsFlipsNegativeEigenvalues_6) { eigenFilters<6>(); }
+TEST(EigenFilter, AbsFlipsNegativeEigenvalues_9) { eigenFilters<9>(); }
 
 TEST(PsdProjection, ClampsNegativeEigenvaluesKeepsPsdInput_4) { psdProjection<4>(); }
 TEST(PsdProjection, ClampsNegativeEigenvaluesKeepsPsdInput_6) { psdProjection<6>(); }
