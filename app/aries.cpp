@@ -67,7 +67,8 @@ PetscErrorCode run(int *exitCode) {
   fem::Mesh mesh;
   PetscCall(fem::loadMesh(comm, &mesh));
   std::unique_ptr<fem::Discretization> disc;
-  PetscCall(fem::Discretization::create(mesh, &disc));
+  PetscCall(fem::Discretization::create(
+      mesh, simOpts.integrator == solver::Integrator::BackwardEuler ? simOpts.dt : 0.0, &disc));
   solver::Simulation sim;
   PetscCall(sim.setup(*disc, simOpts));
   PetscInt resumeStep = -1;

@@ -113,6 +113,12 @@ def case_defs():
                                   r"-strict: unknown or unused option\(s\) -gama")
     d["restart_garbage"] = (lambda: ["-dm_plex_filename", good_mesh(), "-restart", write("ck.h5", "not hdf5")],
                             r"cannot open checkpoint '.*ck\.h5' \(-restart\)")
+    d["psd_projection_unknown"] = (lambda: ["-dm_plex_filename", good_mesh(), "-psd_projection", "flip"],
+                                   r"option -psd_projection: 'flip' is not clamp\|abs\|adaptive\|none")
+    d["newton_subspace_range"] = (lambda: ["-dm_plex_filename", good_mesh(), "-newton_subspace", "9"],
+                                  r"option -newton_subspace must be in 0\.\.7 \(got 9\)")
+    d["newton_forcing_range"] = (lambda: ["-dm_plex_filename", good_mesh(), "-newton_forcing", "1.5"],
+                                 r"option -newton_forcing must be in \[0, 1\) \(got 1\.5\)")
     return d
 
 

@@ -189,7 +189,10 @@ def case_ortho_cube():
 
 
 def case_ranks_agree():
-    """-n 1 and -n 2 give the same final positions to 1e-8 L (scramble: the hardest path)."""
+    """-n 1 and -n 2 give the same final positions to 1e-6 L (scramble: the hardest path). Each step is certified to
+    -newton_tol (1e-2 L dt = 1e-4 L here) and ends with the converged Newton step applied; the partitions sum in a
+    different order, and the chaotic second step of a scramble amplifies that round-off (5e-8 L measured), so
+    agreement to 1% of the tolerance is what the solver guarantees."""
     bases = []
     for n in (1, 2):
         tag = "agree_np%d" % n
@@ -201,18 +204,18 @@ def case_ranks_agree():
     _, _, x2, _ = read_state(bases[1])
     L = np.linalg.norm(rest.max(0) - rest.min(0))
     diff = np.abs(x1 - x2).max() / L
-    print("max |x(n=1) - x(n=2)| / L = %.3e (limit 1e-8)" % diff)
-    if not diff <= 1e-8:
+    print("max |x(n=1) - x(n=2)| / L = %.3e (limit 1e-6)" % diff)
+    if not diff <= 1e-6:
         fail("1 and 2 ranks disagree by %.3e L" % diff)
 
 
 def case_safeguard(linesearch):
     """The alpha safeguard halves Newton steps that would push an element's alpha below -alpha_min (raised here to
-    1 so that it acts during an inside-out recovery), the run still recovers, and no element that was above the
-    threshold ends below it."""
+    4, rest alpha = 64, so that it acts during an inside-out recovery; cells are guarded from 2 alpha_min up), the
+    run still recovers, and no element that was above the threshold ends below it."""
     tag = "safeguard_%s_np%d" % (linesearch, ARGS.ranks)
     log, _ = run(["-dm_plex_filename", mesh("cube"), "-energy", "iarap", "-E", "1e4", "-nu", "0", "-initial",
-                  "invert", "-integrator", "beuler", "-dt", "0.2", "-steps", "60", "-alpha_min", "1",
+                  "invert", "-integrator", "beuler", "-dt", "0.2", "-steps", "60", "-alpha_min", "4",
                   "-snes_linesearch_type", linesearch, "-output", out_base(tag), "-output_every", "60",
                   "-stats", out_base(tag) + ".csv"], tag=tag)
     halvings = summary_value(log, "safeguard halvings")
@@ -223,8 +226,8 @@ def case_safeguard(linesearch):
         fail("no step was halved by the safeguard")
     if not err <= 1e-3:
         fail("not recovered under the safeguard: %.3e L" % err)
-    if not final_alpha >= 1.0:
-        fail("final min alpha %.3e below -alpha_min 1" % final_alpha)
+    if not final_alpha >= 4.0:
+        fail("final min alpha %.3e below -alpha_min 4" % final_alpha)
 
 
 def case_kim_aa_fails():
@@ -270,6 +273,130 @@ def case_no_false_convergence():
         fail("reported converged ('%s') at %.3e L from the rest shape" % (reason, err))
     if not converged and code != 3:
         fail("the failed step should end the run with exit code 3 (-on_failure stop), got %d" % code)
+
+
+def static_scramble_args(msh, seed, steps):
+    """A static scramble with a box pin: the vertices in the bottom 10% of the rest bounding box are fixed."""
+    rest_box = meta_box(msh)
+    lo, hi = rest_box
+    box = "%g,%g,%g,%g,%g,%g" % (lo[0] - 1, hi[0] + 1, lo[1] - 1, hi[1] + 1, lo[2] - 1, lo[2] + 0.1 * (hi[2] - lo[2]))
+    return ["-dm_plex_filename", msh, "-energy", "iarap", "-E", "1e4", "-nu", "0.3", "-integrator", "static",
+            "-steps", str(steps), "-initial", "scramble", "-scramble_seed", str(seed), "-bc_box", box]
+
+
+def meta_box(msh):
+    import json
+    with open(msh[:-4] + ".json") as fh:
+        meta = json.load(fh)
+    return meta["bbox_min"], meta["bbox_max"]
+
+
+def case_static_scramble():
+    """A static scramble (triceratops test mesh: a surface no other case uses; feet pinned by a box) recovers the
+    rest shape in step 1, and the 9 steps after it are converged at rest with 0 updates (converged_initial). Before
+    the convergence tests were redone, step 1 ended on PETSc's relative residual test (fnorm_rel: 1e-8 of a huge
+    scrambled residual) and a later step at equilibrium failed with diverged_line_search (exit 3): the energy could
+    not decrease at round-off and the line search ran before the step test."""
+    tag = "static_scramble_np%d" % ARGS.ranks
+    run(static_scramble_args(mesh("triceratops"), 2, 10) + ["-output", out_base(tag), "-output_every", "10",
+        "-stats", out_base(tag) + ".csv", "-newton_history", out_base(tag) + "_newton.csv"], tag=tag)
+    rows = stats(out_base(tag) + ".csv")
+    err, _ = shape_error(out_base(tag), rigid=False)
+    reasons = [r["reason"] for r in rows]
+    print("step 1: %s Newton updates, %s linear solves (%s at -ksp_max_it), reason %s; later reasons %s; distance "
+          "to rest %.3e L" % (rows[0]["newton_its"], rows[0]["linear_solves"], rows[0]["ksp_at_limit"], reasons[0],
+                              sorted(set(reasons[1:])), err))
+    if len(rows) != 10 or reasons[0] != "newton_step":
+        fail("step 1 did not converge by the Newton step criterion: %s" % reasons)
+    if any(r != "converged_initial" or int(x["newton_its"]) != 0 for r, x in zip(reasons[1:], rows[1:])):
+        fail("a step at rest was not converged with 0 updates: %s" % reasons)
+    if not err <= 1e-3:
+        fail("not at rest: %.3e L" % err)
+    if not int(rows[0]["newton_its"]) <= 80:
+        fail("step 1 took %s Newton updates (measured 46 when this test was written)" % rows[0]["newton_its"])
+    hist = [h for h in csv_rows(out_base(tag) + "_newton.csv") if h["step"] == "1"]
+    if len(hist) != int(rows[0]["linear_solves"]):
+        fail("-newton_history has %d rows for step 1, the stats %s linear solves" % (len(hist),
+                                                                                   rows[0]["linear_solves"]))
+    r0 = float(hist[0]["residual"])
+    early = [int(h["iteration"]) for h in hist if float(h["residual"]) <= 1e-8 * r0]
+    print("residual below 1e-8 of the initial one first at iteration %s of %d" % (early[0] if early else "-",
+                                                                                   len(hist) - 1))
+
+
+def case_rest_continued():
+    """A recovered body continued at rest: the static scramble of the test armadillo (hands and feet pinned) is
+    recovered in step 1, then 20 static steps, then (restarted from the checkpoint with -integrator beuler) 20
+    backward Euler steps: every step converged, exit 0, the body stays at rest. A state at rest used to fail
+    (diverged_line_search at |r| ~ 1e-12: round-off energy, line search before the step test)."""
+    tag = "rest_continued_np%d" % ARGS.ranks
+    common = ["-dm_plex_filename", mesh("armadillo"), "-energy", "iarap", "-E", "1e5", "-nu", "0", "-bc_clamp",
+              "hands_feet", "-initial", "scramble", "-scramble_seed", "3", "-density", "1", "-output", out_base(tag),
+              "-output_every", "7", "-stats", out_base(tag) + ".csv", "-checkpoint", out_base(tag) + ".ck.h5"]
+    run(common + ["-integrator", "static", "-steps", "21", "-checkpoint_every", "21"], tag=tag + "_static")
+    run(common + ["-integrator", "beuler", "-steps", "41", "-restart", out_base(tag) + ".ck.h5"],
+        tag=tag + "_dynamic")
+    rows = stats(out_base(tag) + ".csv")
+    err, _ = shape_error(out_base(tag), rigid=False)
+    later = rows[1:]
+    updates = [int(r["newton_its"]) for r in later]
+    print("%d steps; reasons after step 1: %s; updates per step after step 1: max %d, total %d; distance to rest "
+          "%.3e L" % (len(rows), sorted(set(r["reason"] for r in later)), max(updates), sum(updates), err))
+    if len(rows) != 41:
+        fail("expected 41 stats rows, got %d" % len(rows))
+    bad = [(r["step"], r["reason"]) for r in rows if r["reason"] not in
+           ("newton_step", "converged_initial", "step_bound", "energy_roundoff")]
+    if bad:
+        fail("steps not converged: %s" % bad)
+    if max(updates) > 1:
+        fail("a step at rest needed %d updates" % max(updates))
+    if not err <= 1e-3:
+        fail("the body left the rest shape: %.3e L" % err)
+
+
+def case_inside_out_density1():
+    """The inside-out bunny (35k tets) at density 1, a stiffness-dominated regime: it recovers, every step
+    converges, the safeguard does not block the steps. With -alpha_min guarding every cell just above 1e-6 (26,294
+    cells below it and 7,949 in the mollifier's flat region after one iteration), step 1 used to halve every
+    direction ~53 times and end with diverged_line_search."""
+    tag = "inside_out_rho1_np%d" % ARGS.ranks
+    p = subprocess.run([os.path.join(ARGS.root, "meshes", "generate.sh"), "bunny", "default"], capture_output=True,
+                       text=True)
+    if p.returncode != 0:
+        fail("mesh generation failed: " + p.stderr[-2000:])
+    msh = p.stdout.strip().splitlines()[-1]
+    log, _ = run(["-options_file", os.path.join(ARGS.root, "options", "bunny_inside_out.yml"), "-dm_plex_filename",
+                  msh, "-density", "1", "-steps", "3", "-output", out_base(tag), "-output_every", "3",
+                  "-stats", out_base(tag) + ".csv"], tag=tag)
+    rows = stats(out_base(tag) + ".csv")
+    halvings = summary_value(log, "safeguard halvings")
+    print("Newton updates per step %s, reasons %s, safeguard halvings %d, min alpha after step 1 %s"
+          % ([r["newton_its"] for r in rows], [r["reason"] for r in rows], halvings, rows[0]["min_alpha"]))
+    if any(r["reason"] != "newton_step" for r in rows):
+        fail("a step did not converge")
+    if not float(rows[-1]["min_alpha"]) > 1.0:
+        fail("not un-inverted after 3 steps: min alpha %s" % rows[-1]["min_alpha"])
+    if halvings > 10:
+        fail("the safeguard halved %d times in 3 steps" % halvings)
+
+
+def case_newton_variants():
+    """Every Newton variant the options offer recovers the static scramble of the test cube (<= 1e-3 L, exit 0):
+    the element Hessian filters clamp, abs and adaptive, with and without the subspace step, and inexact linear
+    solves (-newton_forcing, PETSc's -snes_ksp_ew) whose small steps are certified by a solve at -ksp_rtol."""
+    variants = [["-psd_projection", f, "-newton_subspace", m] for f in ("clamp", "abs", "adaptive") for m in ("0", "1")]
+    variants += [["-newton_forcing", "0.2"], ["-snes_ksp_ew"], ["-newton_subspace", "2", "-newton_subspace_max", "0"]]
+    for k, v in enumerate(variants):
+        tag = "variant%d" % k
+        run(static_scramble_args(mesh("cube"), 1, 2) + v + ["-output", out_base(tag), "-output_every", "2",
+            "-stats", out_base(tag) + ".csv"], tag=tag)
+        rows = stats(out_base(tag) + ".csv")
+        err, _ = shape_error(out_base(tag), rigid=False)
+        print("%-50s step 1: %3s updates, %3s solves, %6s CG; reasons %s; %.2e L"
+              % (" ".join(v), rows[0]["newton_its"], rows[0]["linear_solves"], rows[0]["ksp_its"],
+                 [r["reason"] for r in rows], err))
+        if not err <= 1e-3:
+            fail("%s: not recovered (%.3e L)" % (" ".join(v), err))
 
 
 def case_options_file(name):
@@ -540,6 +667,10 @@ CASES = {
     "cloth_sphere": case_cloth_sphere,
     "cloth_appendix_d": case_cloth_appendix_d,
     "uv_disk": case_uv_disk,
+    "static_scramble": case_static_scramble,
+    "rest_continued": case_rest_continued,
+    "inside_out_density1": case_inside_out_density1,
+    "newton_variants": case_newton_variants,
 }
 
 

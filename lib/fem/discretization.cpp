@@ -92,7 +92,7 @@ class DiscretizationT final : public Discretization {
   static constexpr int NDOF = NV * R;
   static constexpr int NF = R * C;
 
-  PetscErrorCode setup(Mesh &mesh);
+  PetscErrorCode setup(Mesh &mesh, double dt);
 
   PetscErrorCode setLoad(double s) override {
     PetscFunctionBeginUser;
@@ -110,14 +110,24 @@ class DiscretizationT final : public Discretization {
   PetscErrorCode restPositions(Vec xGlobal) const override;
   PetscErrorCode setPrediction(Vec xTildeGlobal) override;
   PetscErrorCode lumpedMass(Vec massGlobal) const override;
-  PetscErrorCode objective(Vec xLocal, PetscReal *value) const override;
+  PetscErrorCode objective(Vec xLocal, PetscReal *value, PetscReal *magnitude = nullptr) const override;
   PetscErrorCode gradient(Vec xLocal, Vec gLocal) const override;
   PetscErrorCode hessian(Vec xLocal, Mat J) override;
+  PetscErrorCode curvatureGram(Vec xLocal, const std::vector<Vec> &dLocal, std::vector<double> *gram) const override;
   PetscErrorCode elasticEnergy(Vec xLocal, PetscReal *value) const override;
   PetscErrorCode updateBarrierFallback(Vec xLocal, double threshold, PetscInt *count) override;
   PetscErrorCode cellAlpha(Vec xLocal, std::vector<double> *alpha) const override;
   PetscErrorCode cellGuard(Vec xLocal, std::vector<double> *guard) const override;
   PetscErrorCode cellQuantities(Vec xLocal, CellQuantities *q) const override;
+  void mollifierBandTop(std::vector<double> *top) const override {
+    top->resize(cells_.size());
+    for (size_t c = 0; c < cells_.size(); ++c) {
+      const energies::Material &m = materialOf(c);
+      const bool mollified = m.singularity.mode == energies::SingularityMode::Mollifier &&
+                             energies::energyContainsStretchInvariant(m.kind);
+      (*top)[c] = mollified ? m.singularity.mollifier.eps : 0.0;
+    }
+  }
   PetscErrorCode gatherVertexField(Vec xLocal, std::vector<double> *values) const override;
   PetscErrorCode gatherRestPositions(std::vector<double> *values) const override;
   PetscErrorCode gatherCellField(const std::vector<double> &perCell, int components,
@@ -163,12 +173,13 @@ class DiscretizationT final : public Discretization {
   const energies::Material &materialOf(size_t c) const {
     return fallback_.empty() || !fallback_[c] ? materials_[cells_[c].region] : mollified_[cells_[c].region];
   }
-  PetscErrorCode vertexTermsObjective(const PetscScalar *x, double *E) const;
-  double cellEnergySum(const PetscScalar *x) const;                      // owned cells, this rank
-  double surfaceTermsEnergy(const PetscScalar *x) const;                 // bending + contact, this rank
+  // Energy sums on this rank; `magnitude` (optional) accumulates the absolute values of the terms.
+  PetscErrorCode vertexTermsObjective(const PetscScalar *x, double *E, double *magnitude = nullptr) const;
+  double cellEnergySum(const PetscScalar *x, double *magnitude = nullptr) const;  // owned cells
+  double surfaceTermsEnergy(const PetscScalar *x, double *magnitude = nullptr) const;  // bending + contact
   void addSurfaceTermsGradient(const PetscScalar *x, PetscScalar *g) const;
   PetscErrorCode addSurfaceTermsHessian(const PetscScalar *x, Mat J) const;
-  PetscErrorCode setupSurfaceTerms(Mesh &mesh);
+  PetscErrorCode setupSurfaceTerms(Mesh &mesh, double dt);
   bool usesEnergy(energies::EnergyKind kind) const;  // by any region
   PetscErrorCode setupActiveMaterials(Mesh &mesh);
   void updateTargets();
@@ -191,7 +202,7 @@ class DiscretizationT final : public Discretization {
 };
 
 template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::setup(Mesh &mesh) {
+PetscErrorCode DiscretizationT<R, C>::setup(Mesh &mesh, double dt) {
   MPI_Comm comm;
   PetscFunctionBeginUser;
   mesh_ = &mesh;
@@ -495,7 +506,7 @@ PetscErrorCode DiscretizationT<R, C>::setup(Mesh &mesh) {
   PetscInt localSize;
   PetscCall(PetscSectionGetStorageSize(localSection, &localSize));
   xTilde_.assign(localSize, 0.0);
-  PetscCall(setupSurfaceTerms(mesh));
+  PetscCall(setupSurfaceTerms(mesh, dt));
   PetscFunctionReturn(0);
 }
 
@@ -563,7 +574,7 @@ void DiscretizationT<R, C>::updateTargets() {
 // Cloth bending hinges (-bending, surfaces in 3D) and contact with analytic obstacles (-obstacle_plane,
 // -obstacle_sphere; 3D meshes). Options are read only where they apply.
 template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::setupSurfaceTerms(Mesh &mesh) {
+PetscErrorCode DiscretizationT<R, C>::setupSurfaceTerms(Mesh &mesh, double dt) {
   MPI_Comm comm;
   PetscBool set = PETSC_FALSE;
   PetscFunctionBeginUser;
@@ -647,7 +658,16 @@ PetscErrorCode DiscretizationT<R, C>::setupSurfaceTerms(Mesh &mesh) {
       PetscCall(optionReal(nullptr, "-contact_dhat", &contactDhat_, &set));
       if (!(contactDhat_ > 0.0))
         SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -contact_dhat must be > 0 (got %g)", contactDhat_);
-      contactKappa_ = characteristicModulus() * restMeasure_ / static_cast<double>(mesh.numVerticesGlobal);
+      // Default stiffness: the body's own stiffness at a vertex, so contact neither lets vertices sink deep into the
+      // barrier's log singularity (slow Newton at impacts) nor dominates the system: with inertia the mean vertex
+      // mass / dt^2; quasistatic, modulus * h^(dim - 2) with h = (measure / vertices)^(1/dim) the mean vertex spacing.
+      const double perVertex = restMeasure_ / static_cast<double>(mesh.numVerticesGlobal);
+      if (dt > 0.0) {
+        contactKappa_ = dyn_.density * perVertex / (dt * dt);
+      } else {
+        const int dim = C;  // 2: surfaces (cloth), 3: solids
+        contactKappa_ = characteristicModulus() * std::pow(perVertex, 1.0 - 2.0 / dim);
+      }
       PetscCall(optionReal(nullptr, "-contact_stiffness", &contactKappa_, &set));
       if (!(contactKappa_ > 0.0))
         SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -contact_stiffness must be > 0 (got %g)", contactKappa_);
@@ -670,7 +690,7 @@ PetscErrorCode DiscretizationT<R, C>::setupSurfaceTerms(Mesh &mesh) {
 }
 
 template <int R, int C>
-double DiscretizationT<R, C>::surfaceTermsEnergy(const PetscScalar *x) const {
+double DiscretizationT<R, C>::surfaceTermsEnergy(const PetscScalar *x, double *magnitude) const {
   double e = 0.0;
   if constexpr (R == 3) {
     for (const Hinge &h : hinges_) {
@@ -686,6 +706,7 @@ double DiscretizationT<R, C>::surfaceTermsEnergy(const PetscScalar *x) const {
           e += kernels::obstacleBarrier(o, xv, contactDhat_, contactKappa_, kernels::Order::Value).value;
       }
   }
+  if (magnitude) *magnitude += e;  // both terms are >= 0
   return e;
 }
 
@@ -811,10 +832,10 @@ PetscErrorCode DiscretizationT<R, C>::lumpedMass(Vec massGlobal) const {
 
 // Inertia and gravity on owned free vertices: sum_v m_v [ |x_v - x~_v|^2 / (2 dt^2) - g . x_v ].
 template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::vertexTermsObjective(const PetscScalar *x, double *E) const {
+PetscErrorCode DiscretizationT<R, C>::vertexTermsObjective(const PetscScalar *x, double *E, double *magnitude) const {
   PetscFunctionBeginUser;
   const bool inertia = dyn_.dt > 0.0, grav = dyn_.gravity.squaredNorm() > 0.0;
-  double e = 0.0;
+  double e = 0.0, mag = 0.0;
   if (inertia || grav)
     for (size_t v = 0; v < verts_.size(); ++v) {
       const auto &vi = verts_[v];
@@ -823,25 +844,35 @@ PetscErrorCode DiscretizationT<R, C>::vertexTermsObjective(const PetscScalar *x,
         const double xi = x[vi.loc + i];
         if (inertia) {
           const double d = xi - xTilde_[vi.loc + i];
-          e += 0.5 * mass_[v] * d * d / (dyn_.dt * dyn_.dt);
+          const double ei = 0.5 * mass_[v] * d * d / (dyn_.dt * dyn_.dt);
+          e += ei;
+          mag += ei;
         }
-        if (grav) e -= mass_[v] * dyn_.gravity[i] * xi;
+        if (grav) {
+          const double ei = mass_[v] * dyn_.gravity[i] * xi;
+          e -= ei;
+          mag += std::abs(ei);
+        }
       }
     }
   *E = e;
+  if (magnitude) *magnitude += mag;
   PetscFunctionReturn(0);
 }
 
 template <int R, int C>
-double DiscretizationT<R, C>::cellEnergySum(const PetscScalar *x) const {
-  double e = 0.0;
+double DiscretizationT<R, C>::cellEnergySum(const PetscScalar *x, double *magnitude) const {
+  double e = 0.0, mag = 0.0;
   for (size_t c = 0; c < cells_.size(); ++c) {
     const Cell &cell = cells_[c];
     if (!cell.owned) continue;
-    e += cell.measure * energies::evaluateEnergy<R, C>(materialOf(c), dataOf(c), deformationGradient(cell, x),
-                                                       kernels::Order::Value)
-                            .value;
+    const double ec = cell.measure * energies::evaluateEnergy<R, C>(materialOf(c), dataOf(c),
+                                                                    deformationGradient(cell, x), kernels::Order::Value)
+                                         .value;
+    e += ec;
+    mag += std::abs(ec);
   }
+  if (magnitude) *magnitude += mag;
   return e;
 }
 
@@ -859,18 +890,21 @@ PetscErrorCode DiscretizationT<R, C>::elasticEnergy(Vec xLocal, PetscReal *value
 }
 
 template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::objective(Vec xLocal, PetscReal *value) const {
+PetscErrorCode DiscretizationT<R, C>::objective(Vec xLocal, PetscReal *value, PetscReal *magnitude) const {
   const PetscScalar *x;
   MPI_Comm comm;
   PetscFunctionBeginUser;
   PetscCall(PetscObjectGetComm((PetscObject)mesh_->dm, &comm));
   PetscCall(VecGetArrayRead(xLocal, &x));
-  double ev = 0.0;
-  PetscCall(vertexTermsObjective(x, &ev));
-  double e = cellEnergySum(x) + surfaceTermsEnergy(x) + ev;
+  double sums[2] = {0.0, 0.0}, ev = 0.0;  // energy, magnitude
+  PetscCall(vertexTermsObjective(x, &ev, &sums[1]));
+  sums[0] = cellEnergySum(x, &sums[1]) + surfaceTermsEnergy(x, &sums[1]) + ev;
   PetscCall(VecRestoreArrayRead(xLocal, &x));
-  if (std::isnan(e)) e = PETSC_INFINITY;  // an undefined state is never accepted by the line search
-  PetscCallMPI(MPI_Allreduce(&e, value, 1, MPI_DOUBLE, MPI_SUM, comm));
+  if (std::isnan(sums[0])) sums[0] = PETSC_INFINITY;  // an undefined state is never accepted by the line search
+  double tot[2];
+  PetscCallMPI(MPI_Allreduce(sums, tot, magnitude ? 2 : 1, MPI_DOUBLE, MPI_SUM, comm));
+  *value = tot[0];
+  if (magnitude) *magnitude = tot[1];
   PetscFunctionReturn(0);
 }
 
@@ -925,7 +959,7 @@ PetscErrorCode DiscretizationT<R, C>::hessian(Vec xLocal, Mat J) {
     if (!cell.owned) continue;
     const auto d = energies::evaluateEnergy<R, C>(materialOf(c), dataOf(c), deformationGradient(cell, x),
                                                   kernels::Order::Hessian);
-    const EMat<NF, NF> H = cell.measure * kernels::projectToPSD<NF>(d.hess);
+    const EMat<NF, NF> H = cell.measure * kernels::filterEigenvalues<NF>(d.hess, eigenFilter_);
     // K[(v,i),(u,k)] = sum_jl H[(i,j),(k,l)] W(v,j) W(u,l)
     Eigen::Matrix<double, NF, NDOF> HB;  // H * B, B[(k,l),(u,k')] = delta_kk' W(u,l)
     for (int row = 0; row < NF; ++row)
@@ -972,6 +1006,72 @@ PetscErrorCode DiscretizationT<R, C>::hessian(Vec xLocal, Mat J) {
   PetscCall(VecRestoreArrayRead(xLocal, &x));
   PetscCall(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::curvatureGram(Vec xLocal, const std::vector<Vec> &dLocal,
+                                                   std::vector<double> *gram) const {
+  constexpr int KMAX = 8;
+  const int K = static_cast<int>(dLocal.size());
+  const PetscScalar *x, *d[KMAX];
+  MPI_Comm comm;
+  PetscFunctionBeginUser;
+  if (K > KMAX) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "curvatureGram: at most %d directions", KMAX);
+  PetscCall(PetscObjectGetComm((PetscObject)mesh_->dm, &comm));
+  PetscCall(VecGetArrayRead(xLocal, &x));
+  for (int k = 0; k < K; ++k) PetscCall(VecGetArrayRead(dLocal[k], &d[k]));
+  Eigen::Matrix<double, KMAX, KMAX> q = Eigen::Matrix<double, KMAX, KMAX>::Zero();
+  // Accumulates sum_k,l a_k^T M a_l for per-term direction pieces a_k (columns of A).
+  auto addTerm = [&](const auto &A, const auto &M) {
+    const auto MA = (M * A).eval();
+    q.topLeftCorner(K, K) += A.transpose() * MA;
+  };
+  for (size_t c = 0; c < cells_.size(); ++c) {
+    const Cell &cell = cells_[c];
+    if (!cell.owned) continue;
+    const auto e = energies::evaluateEnergy<R, C>(materialOf(c), dataOf(c), deformationGradient(cell, x),
+                                                  kernels::Order::Hessian);
+    Eigen::Matrix<double, NF, Eigen::Dynamic, 0, NF, KMAX> A(NF, K);
+    for (int k = 0; k < K; ++k) A.col(k) = kernels::flatten<R, C>(deformationGradient(cell, d[k]));
+    addTerm(A, (cell.measure * e.hess).eval());
+  }
+  if constexpr (R == 3) {
+    for (const Hinge &h : hinges_) {
+      Eigen::Vector3d xs[4];
+      Eigen::Matrix<double, 12, Eigen::Dynamic, 0, 12, KMAX> A(12, K);
+      for (int i = 0; i < 4; ++i) {
+        xs[i] = Eigen::Map<const Eigen::Vector3d>(x + verts_[h.vertex[i]].loc);
+        for (int k = 0; k < K; ++k) A.col(k).template segment<3>(3 * i) = Eigen::Map<const Eigen::Vector3d>(d[k] + verts_[h.vertex[i]].loc);
+      }
+      addTerm(A, kernels::quadraticBending(h.rest, xs, bending_, kernels::Order::Hessian).hess);
+    }
+    if (!obstacles_.empty())
+      for (const auto &vi : verts_) {
+        if (!vi.owned || vi.bcSet >= 0) continue;
+        const Eigen::Vector3d xv = Eigen::Map<const Eigen::Vector3d>(x + vi.loc);
+        Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, KMAX> A(3, K);
+        for (int k = 0; k < K; ++k) A.col(k) = Eigen::Map<const Eigen::Vector3d>(d[k] + vi.loc);
+        for (const auto &o : obstacles_)
+          addTerm(A, kernels::obstacleBarrier(o, xv, contactDhat_, contactKappa_, kernels::Order::Hessian).hess);
+      }
+  }
+  if (dyn_.dt > 0.0)
+    for (size_t v = 0; v < verts_.size(); ++v) {
+      const auto &vi = verts_[v];
+      if (!vi.owned || vi.bcSet >= 0) continue;
+      const double m = mass_[v] / (dyn_.dt * dyn_.dt);
+      for (int i = 0; i < R; ++i)
+        for (int k = 0; k < K; ++k)
+          for (int l = 0; l < K; ++l) q(k, l) += m * d[k][vi.loc + i] * d[l][vi.loc + i];
+    }
+  for (int k = 0; k < K; ++k) PetscCall(VecRestoreArrayRead(dLocal[k], &d[k]));
+  PetscCall(VecRestoreArrayRead(xLocal, &x));
+  std::vector<double> local(K * K);
+  for (int k = 0; k < K; ++k)
+    for (int l = 0; l < K; ++l) local[k * K + l] = 0.5 * (q(k, l) + q(l, k));
+  gram->resize(K * K);
+  PetscCallMPI(MPI_Allreduce(local.data(), gram->data(), K * K, MPI_DOUBLE, MPI_SUM, comm));
   PetscFunctionReturn(0);
 }
 
@@ -1165,24 +1265,24 @@ PetscErrorCode DiscretizationT<R, C>::cellFibers(std::vector<double> *fibers) co
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode Discretization::create(Mesh &mesh, std::unique_ptr<Discretization> *out) {
+PetscErrorCode Discretization::create(Mesh &mesh, double dt, std::unique_ptr<Discretization> *out) {
   PetscFunctionBeginUser;
   switch (mesh.shape) {
     case ElementShape::Tet: {
       auto d = std::make_unique<DiscretizationT<3, 3>>();
-      PetscCall(d->setup(mesh));
+      PetscCall(d->setup(mesh, dt));
       *out = std::move(d);
       break;
     }
     case ElementShape::Planar: {
       auto d = std::make_unique<DiscretizationT<2, 2>>();
-      PetscCall(d->setup(mesh));
+      PetscCall(d->setup(mesh, dt));
       *out = std::move(d);
       break;
     }
     case ElementShape::Cloth: {
       auto d = std::make_unique<DiscretizationT<3, 2>>();
-      PetscCall(d->setup(mesh));
+      PetscCall(d->setup(mesh, dt));
       *out = std::move(d);
       break;
     }

@@ -11,6 +11,7 @@
 #include "fem/boundary.hpp"
 #include "fem/material_options.hpp"
 #include "fem/mesh.hpp"
+#include "kernels/psd_projection.hpp"
 
 #include <petscmat.h>
 
@@ -35,8 +36,9 @@ class Discretization {
  public:
   virtual ~Discretization() = default;
   // Reads the material (global and -regions), -fiber_file, -density, -gravity and the boundary options; builds the
-  // section, the rest data and the mass. Collective.
-  static PetscErrorCode create(Mesh &mesh, std::unique_ptr<Discretization> *out);
+  // section, the rest data and the mass. `dt` is the time step of backward Euler (0 for static runs), the scale of
+  // the contact stiffness's default. Collective.
+  static PetscErrorCode create(Mesh &mesh, double dt, std::unique_ptr<Discretization> *out);
 
   DM dm() const { return mesh_->dm; }
   const Mesh &mesh() const { return *mesh_; }
@@ -65,9 +67,19 @@ class Discretization {
   virtual PetscErrorCode lumpedMass(Vec massGlobal) const = 0;  // per free dof
 
   // Total potential (elastic + inertia + gravity) and its derivatives at a local state (boundary filled).
-  virtual PetscErrorCode objective(Vec xLocal, PetscReal *value) const = 0;
+  // `magnitude` (optional): the sum of the absolute values of the energy's terms, the scale of its round-off error.
+  virtual PetscErrorCode objective(Vec xLocal, PetscReal *value, PetscReal *magnitude = nullptr) const = 0;
   virtual PetscErrorCode gradient(Vec xLocal, Vec gLocal) const = 0;  // gLocal zeroed here; add to global with ADD_VALUES
-  virtual PetscErrorCode hessian(Vec xLocal, Mat J) = 0;        // assembled, PSD-projected per element
+  virtual PetscErrorCode hessian(Vec xLocal, Mat J) = 0;        // assembled, eigenvalue-filtered per element
+  // The element Hessians' eigenvalue filter used by hessian() (kernels/psd_projection.hpp); the Newton solver picks it
+  // per iteration (-psd_projection).
+  void setEigenFilter(kernels::EigenFilter filter) { eigenFilter_ = filter; }
+  kernels::EigenFilter eigenFilter() const { return eigenFilter_; }
+  // Gram matrix G_kl = d_k^T H d_l of K <= 8 directions d_k (local vectors with zeros at the Dirichlet dofs) with the
+  // true (unfiltered) Hessian H of the total potential at a local state; row-major K x K, collective. The contact term
+  // enters with its PSD Hessian (kernels/obstacle_barrier.hpp). Used by the Newton solver's subspace step and the
+  // adaptive filter's trust-region ratio.
+  virtual PetscErrorCode curvatureGram(Vec xLocal, const std::vector<Vec> &dLocal, std::vector<double> *gram) const = 0;
   // Barrier mode at singular elements (paper Sec. 7.1): elements whose alpha is below `threshold` in this state are
   // evaluated with the mollifier instead of the aberration barrier (b is undefined at alpha = 0) until a later
   // call finds them above it. Called at the start of each step, so every Newton solve sees one fixed energy.
@@ -85,6 +97,9 @@ class Discretization {
   // -keep_orientation (in 2D alpha = s1 + s2 stays positive when a triangle flips, det F does not).
   virtual PetscErrorCode cellGuard(Vec xLocal, std::vector<double> *guard) const = 0;
   virtual PetscErrorCode cellQuantities(Vec xLocal, CellQuantities *q) const = 0;
+  // Top of each local cell's singular band for the safeguard: the mollifier's eps for cells evaluated with the
+  // mollifier (below it their I4/I6 terms are the constant proxy, Eq. 33: nothing is singular there), 0 otherwise.
+  virtual void mollifierBandTop(std::vector<double> *top) const = 0;
 
   // Output in natural (serial gmsh) order, gathered on rank 0 (empty elsewhere).
   virtual PetscErrorCode gatherVertexField(Vec xLocal, std::vector<double> *values) const = 0;   // positions (x3)
@@ -116,6 +131,7 @@ class Discretization {
   double restMeasure_ = 0.0;
   std::vector<energies::Material> materials_;
   DynamicsTerms dyn_;
+  kernels::EigenFilter eigenFilter_ = kernels::EigenFilter::Clamp;
   double load_ = 0.0;
   double time_ = 0.0;
 };

@@ -17,11 +17,13 @@ PetscErrorCode readOutputOptions(OutputOptions *o) {
   }
   PetscCall(fem::optionString(nullptr, "-stats", &o->stats, nullptr));
   PetscCall(fem::optionString(nullptr, "-reactions", &o->reactions, nullptr));
+  PetscCall(fem::optionString(nullptr, "-newton_history", &o->newtonHistory, nullptr));
   PetscFunctionReturn(0);
 }
 
 RunOutput::~RunOutput() {
   if (reactions_) std::fclose(reactions_);
+  if (history_) std::fclose(history_);
 }
 
 PetscErrorCode RunOutput::setup(const OutputOptions &opts, const CheckpointOptions &checkpoint,
@@ -40,6 +42,15 @@ PetscErrorCode RunOutput::setup(const OutputOptions &opts, const CheckpointOptio
     }
     PetscCall(fem::collectiveCheck(comm_, rank == 0 && !reactions_,
                                    "cannot open reactions file '" + opts.reactions + "' for writing (-reactions)"));
+  }
+  if (!opts.newtonHistory.empty()) {
+    if (rank == 0) {
+      history_ = makeParentDirectory(opts.newtonHistory) ? std::fopen(opts.newtonHistory.c_str(), "w") : nullptr;
+      if (history_) std::fprintf(history_, "step,iteration,energy,residual,step_inf,lambda,ksp_its,filter,subspace\n");
+    }
+    PetscCall(fem::collectiveCheck(comm_, rank == 0 && !history_,
+                                   "cannot open Newton history file '" + opts.newtonHistory +
+                                       "' for writing (-newton_history)"));
   }
   if (!opts.output.empty()) {
     std::vector<PetscInt> cells;
@@ -99,6 +110,9 @@ PetscErrorCode RunOutput::afterStep(const solver::Simulation &sim, const solver:
   st.linearIterations = rep.newton.linearIterations;
   st.wallSeconds = rep.wallSeconds;
   st.reason = rep.reason;
+  st.linearSolves = rep.newton.linearSolves;
+  st.linearAtLimit = rep.newton.linearAtLimit;
+  st.residual = rep.newton.residualNorm;
   PetscCall(disc.elasticEnergy(xLocal, &st.energy));
   std::vector<double> alpha;
   PetscCall(disc.cellAlpha(xLocal, &alpha));
@@ -118,12 +132,21 @@ PetscErrorCode RunOutput::afterStep(const solver::Simulation &sim, const solver:
       }
     }
   PetscCall(DMRestoreLocalVector(disc.dm(), &xLocal));
+  if (history_) {
+    for (const auto &h : rep.newton.history)
+      std::fprintf(history_, "%d,%d,%.17g,%.6e,%.6e,%.6g,%d,%s,%d\n", (int)rep.step, (int)h.iteration, h.energy,
+                   h.residual, h.stepInf, h.lambda, (int)h.linearIterations,
+                   h.filter == 'a' ? "abs" : h.filter == 'n' ? "none" : "clamp", h.accelerated ? 1 : 0);
+    std::fflush(history_);
+  }
   const std::string halved =
       rep.newton.safeguardHalvings ? " (safeguard halved the step " + std::to_string(rep.newton.safeguardHalvings) + "x)" : "";
-  PetscCall(PetscPrintf(comm_, "step %d/%d  t=%g  newton %d  cg %d  min_alpha %.3e  |r| %.2e  %.3f s  %s%s\n",
+  const std::string atLimit =
+      rep.newton.linearAtLimit ? " (" + std::to_string(rep.newton.linearAtLimit) + " at -ksp_max_it)" : "";
+  PetscCall(PetscPrintf(comm_, "step %d/%d  t=%g  newton %d  solves %d  cg %d%s  min_alpha %.3e  |r| %.2e  %.3f s  %s%s\n",
                         (int)rep.step, (int)rep.steps, rep.time, (int)rep.newton.newtonIterations,
-                        (int)rep.newton.linearIterations, st.minAlpha, rep.newton.residualNorm, rep.wallSeconds,
-                        rep.reason.c_str(), halved.c_str()));
+                        (int)rep.newton.linearSolves, (int)rep.newton.linearIterations, atLimit.c_str(), st.minAlpha,
+                        rep.newton.residualNorm, rep.wallSeconds, rep.reason.c_str(), halved.c_str()));
   if (rep.step % opts_.outputEvery == 0 || rep.stopping) PetscCall(writeState(sim, rep.step, rep.time));
   if (checkpoint_.every > 0 && (rep.step % checkpoint_.every == 0 || rep.stopping)) {
     PetscCall(PetscLogStagePush(outputStage_));

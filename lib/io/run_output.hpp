@@ -1,5 +1,5 @@
-// What a run writes while it goes: one console line per step, the -stats CSV, the -reactions CSV and the
-// HDF5/XDMF output (-output, -output_every). Implements the solver's StepObserver.
+// What a run writes while it goes: one console line per step, the -stats CSV, the -reactions CSV, the
+// -newton_history CSV and the HDF5/XDMF output (-output, -output_every). Implements the solver's StepObserver.
 #pragma once
 
 #include "io/checkpoint.hpp"
@@ -16,6 +16,7 @@ struct OutputOptions {
   PetscInt outputEvery = 1;
   std::string stats;       // FILE.csv
   std::string reactions;   // FILE.csv
+  std::string newtonHistory;  // FILE.csv: one row per Newton iteration (-newton_history)
 };
 
 PetscErrorCode readOutputOptions(OutputOptions *opts);
@@ -38,6 +39,7 @@ class RunOutput final : public solver::StepObserver {
   XdmfWriter writer_;
   StatsWriter stats_;
   std::FILE *reactions_ = nullptr;
+  std::FILE *history_ = nullptr;
   PetscLogStage outputStage_ = -1;
 };
 

@@ -1,5 +1,8 @@
 // Per-step statistics CSV (-stats FILE.csv), one row per step, flushed as written so an interrupted run keeps
-// every completed row. Header (a contract): step,time,newton_its,ksp_its,wall_s,energy,min_alpha,max_disp,reason
+// every completed row. Header (a contract; readers go by column name):
+//   step,time,newton_its,ksp_its,wall_s,energy,min_alpha,max_disp,reason,linear_solves,ksp_at_limit,residual
+// newton_its counts updates of the state, linear_solves the Newton systems solved (a converging direction is solved
+// but not applied), ksp_at_limit those stopped by -ksp_max_it, residual |gradient|_2 over the free dofs at the end.
 #pragma once
 
 #include <petscsys.h>
@@ -15,6 +18,8 @@ struct StepStats {
   PetscInt newtonIterations = 0, linearIterations = 0;
   double wallSeconds = 0.0, energy = 0.0, minAlpha = 0.0, maxDisplacement = 0.0;
   std::string reason;
+  PetscInt linearSolves = 0, linearAtLimit = 0;
+  double residual = 0.0;
 };
 
 class StatsWriter {

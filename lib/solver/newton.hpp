@@ -1,12 +1,28 @@
-// Projected Newton on the total potential with PETSc SNES (newtonls), KSP CG + Jacobi by default:
-//  * the energy is the SNES objective (line searches backtrack on it), its gradient the residual, the assembled
-//    PSD-projected Hessian the Jacobian (DMSNES local callbacks; Dirichlet values filled by the boundary callback);
-//  * the alpha safeguard (paper Sec. 4.2) as line-search pre/post checks: no accepted step makes an element's alpha
-//    drop below -alpha_min (elements already below it are not constrained); the step is halved until it holds. The
-//    pre-check covers bt/basic/l2/cp, the post-check catches line searches that extrapolate (lambda > 1);
-//  * convergence when the inf-norm of the full Newton step is below -newton_tol * L (* dt for dynamics), L the
-//    rest bounding-box diagonal (paper Sec. 6), or on PETSc's usual criteria.
-//  * the rigid-body modes of the rest shape as the Jacobian's near-nullspace (-near_nullspace rigid|none), for GAMG.
+// Projected Newton on the total potential with PETSc SNES (newtonls), KSP CG + Jacobi by default.
+//
+//  * Model: the energy is the SNES objective (line searches work on it), its gradient the residual, the assembled
+//    eigenvalue-filtered Hessian the Jacobian (DMSNES local callbacks; Dirichlet values filled by the boundary
+//    callback). The filter is -psd_projection clamp|abs|adaptive|none (kernels/psd_projection.hpp); adaptive picks
+//    clamp or abs per Newton iteration by the trust-region ratio of the previous update (Chen et al. 2024).
+//  * Convergence is decided on the Newton direction BEFORE any line search (paper Sec. 6): a step is converged when
+//    the inf-norm of the Newton step from a converged linear solve is at most -newton_tol * L (* dt for backward
+//    Euler), L the rest bounding-box diagonal. The state is then kept as it is (no update), so a state at rest
+//    converges with 0 updates (reason converged_initial). Backward Euler with a PSD-filtered Hessian has
+//    H >= M / dt^2, which bounds the Newton step by the residual alone (stepBound): below the tolerance the step is
+//    certified without a linear solve (reason step_bound). A direction whose predicted energy decrease is below the
+//    energy's round-off is converged too (energy_roundoff): no line search can measure progress there. PETSc's
+//    relative residual test is off by default (-snes_rtol 0): a residual small relative to a huge initial one (a
+//    scrambled start) is not equilibrium. A direction from a loose linear solve (-newton_forcing, -snes_ksp_ew)
+//    certifies only through a bound on its error or after a solve at -ksp_rtol.
+//  * Subspace acceleration (-newton_subspace m): the update minimizes the true quadratic model (exact Hessian) over
+//    span{Newton direction, last m updates}, a Newton-preconditioned nonlinear-CG / SESOP step. Filtering makes the
+//    model of inverted and compressed elements stiffer than they are, so plain projected Newton converges linearly
+//    with steps that are too short; the exact curvature in a small subspace restores the step length and direction.
+//  * The alpha safeguard (paper Sec. 4.2) as line-search pre/post checks: no accepted step takes an element whose
+//    alpha is at or above the top of its singular band to below -alpha_min; the step is halved until it holds. The
+//    band is [0, mollifier eps) for elements evaluated with the mollifier (there the I4/I6 terms are the constant
+//    proxy and nothing is singular) and [0, alpha_min) otherwise, so elements already inside it never block a step.
+//  * The rigid-body modes of the rest shape are the Jacobian's near-nullspace (-near_nullspace rigid|none), for GAMG.
 // Every default is a PETSc option and can be overridden (-snes_*, -ksp_*, -pc_*, -snes_linesearch_*).
 #pragma once
 
@@ -14,38 +30,85 @@
 
 #include <petscsnes.h>
 
+#include <string>
+#include <vector>
+
 namespace aries::solver {
 
-struct NewtonResult {
-  PetscInt newtonIterations = 0;
+// How a Newton solve ended, beyond PETSc's SNESConvergedReason.
+enum class Convergence {
+  None,            // not converged (see the SNES reason)
+  Initial,         // the first Newton step was already below the tolerance: no update
+  NewtonStep,      // the Newton step after >= 1 update is below the tolerance
+  StepBound,       // backward Euler: the residual bounds the Newton step below the tolerance (no linear solve)
+  EnergyRoundoff,  // the predicted decrease along the Newton direction is below the energy's round-off
+  Petsc,           // one of PETSc's tests the user enabled (-snes_atol, -snes_rtol, -snes_stol)
+};
+
+// One Newton iteration, for -newton_history and the convergence charts.
+struct IterationRecord {
+  PetscInt iteration = 0;
+  double energy = 0.0;      // total potential at the iterate
+  double residual = 0.0;    // |gradient|_2 over the free dofs
+  double stepInf = 0.0;     // |Newton step|_inf (before acceleration and line search)
+  double lambda = 0.0;      // accepted line-search length of the update (0: no update, converged)
   PetscInt linearIterations = 0;
+  char filter = 'c';        // element Hessian filter of this iteration: c(lamp), a(bs), n(one)
+  bool accelerated = false; // the update used the subspace step
+};
+
+struct NewtonResult {
+  PetscInt newtonIterations = 0;   // updates of the state (line searches that moved it)
+  PetscInt linearSolves = 0;       // Newton systems solved (one per direction, including the converging one)
+  PetscInt linearIterations = 0;   // Krylov iterations over all of them
+  PetscInt linearAtLimit = 0;      // linear solves stopped by -ksp_max_it (their direction is not a Newton step)
   PetscInt safeguardHalvings = 0;
   SNESConvergedReason reason = SNES_CONVERGED_ITERATING;
-  bool stepCriterion = false;  // converged by the Newton-step criterion (reported as "newton_step")
+  Convergence convergence = Convergence::None;
   PetscInt barrierFallbackCells = 0;  // cells evaluated with the mollifier in barrier mode (alpha ~ 0)
-  PetscReal residualNorm = 0.0;       // |gradient of the potential| over the free dofs at the last iterate
+  PetscReal residualNorm = 0.0;       // |gradient of the potential|_2 over the free dofs at the last iterate
+  std::vector<IterationRecord> history;
   bool converged() const { return reason > 0; }
+  NewtonResult &operator+=(const NewtonResult &o);  // sums the counters, keeps o's outcome, appends its history
 };
+
+enum class EigenFilterMode { Clamp, Abs, Adaptive, None };
 
 class NewtonSolver {
  public:
   ~NewtonSolver();
-  // Reads -newton_tol and -alpha_min; `dynamic` selects the dt-scaled tolerance.
+  // Reads the Newton options (docs/options.md, "Time stepping and solver"); `dynamic` selects the backward Euler
+  // defaults (dt-scaled tolerance, clamp filter, unlimited subspace step, inertia initial guess).
   PetscErrorCode setup(fem::Discretization &disc, bool dynamic, double dt);
   PetscErrorCode solve(Vec x, NewtonResult *result);  // x: initial guess in, solution out (global, free dofs)
+  // The time step changed (-on_failure halve_dt): tolerance and step bound follow it.
+  PetscErrorCode setTimeStep(double dt);
 
-  // alpha check of a state against reference alphas (the state before the step): true unless a cell whose reference
-  // alpha is >= alphaMin ends below alphaMin (or any alpha is NaN).
+  // alpha check of a state against reference alphas (the state before the step): true unless a guarded cell ends
+  // below alphaMin (or any alpha is NaN). A cell is guarded when its reference alpha is at or above the top of its
+  // singular band (see the file comment).
   PetscErrorCode alphaAcceptable(Vec xGlobal, const std::vector<double> &reference, bool *ok);
   PetscErrorCode alphasAt(Vec xGlobal, std::vector<double> *alpha);
+  // Total potential at a global state (Dirichlet values filled); `magnitude` as in Discretization::objective.
+  PetscErrorCode energyAt(Vec xGlobal, PetscReal *value, PetscReal *magnitude);
   double alphaMin() const { return alphaMin_; }
   double stepTolerance() const { return stepTol_; }
   SNES snes() const { return snes_; }
   PetscInt totalHalvings() const { return halvingsTotal_; }
 
  private:
+  PetscErrorCode readOptions(bool dynamic);
   PetscErrorCode attachNearNullSpace();
   PetscErrorCode configureMultigrid();
+  PetscErrorCode stepBound(Vec g, PetscReal *bound);  // backward Euler bound on |H^-1 g|_inf
+  PetscErrorCode inertiaGuess(Mat H);                 // initial guess of the linear solve
+  PetscErrorCode gram(Vec X, const std::vector<Vec> &directions, std::vector<double> *G);
+  PetscErrorCode certify(Vec X, Vec Y, Vec F, PetscInt iter, bool *converged);
+  PetscErrorCode accelerate(Vec X, Vec Y, Vec F, PetscBool *changed);
+  PetscErrorCode safeguard(Vec X, Vec Y, PetscBool *changed);
+  PetscErrorCode finishUpdate(Vec xNew);  // after an update: line-search length, adaptive filter, subspace limit
+  void declareConverged(Convergence how);
+  kernels::EigenFilter initialFilter() const;
   static PetscErrorCode objectiveCallback(SNES, Vec, PetscReal *, void *);
   static PetscErrorCode boundaryLocal(DM, Vec, void *);
   static PetscErrorCode functionLocal(DM, Vec, Vec, void *);
@@ -54,18 +117,46 @@ class NewtonSolver {
   static PetscErrorCode postCheck(SNESLineSearch, Vec, Vec, Vec, PetscBool *, PetscBool *, void *);
   static PetscErrorCode convergenceTest(SNES, PetscInt, PetscReal, PetscReal, PetscReal, SNESConvergedReason *,
                                         void *);
+  static PetscErrorCode linearConvergence(KSP, PetscInt, PetscReal, KSPConvergedReason *, void *);
 
   fem::Discretization *disc_ = nullptr;
   SNES snes_ = nullptr;
   Mat J_ = nullptr;
-  Vec work_ = nullptr;
+  Vec work_ = nullptr, invMass_ = nullptr, prevX_ = nullptr, newtonDir_ = nullptr;
+  std::vector<Vec> history_;  // previous updates of this solve, newest first
+  bool dynamic_ = false;
+  double dt_ = 0.0, minMass_ = 0.0;
+
+  // Options.
+  double newtonTol_ = 0.0, stepTol_ = 0.0;
   double alphaMin_ = 1e-6;
-  double stepTol_ = 0.0;
-  double lastStepInf_ = -1.0;
-  bool stepCriterion_ = false;
-  std::vector<double> alphaRef_;
-  PetscInt halvings_ = 0, halvingsTotal_ = 0;
+  EigenFilterMode filterMode_ = EigenFilterMode::Clamp;
+  double adaptiveTol_ = 0.01;
+  PetscInt subspace_ = 1;
+  double subspaceMax_ = 0.0;   // limit of the Newton direction's coefficient in a subspace step (0: none)
+  bool useInertiaGuess_ = true;
+  double forcing_ = 0.0;
+  PetscReal baseRtol_ = 1e-6;  // the linear solve's tolerance without forcing (certifying solves)
+  void *defaultKspCtx_ = nullptr;
+
+  // State of the solve in progress.
+  NewtonResult cur_;
+  IterationRecord pending_;            // the iteration whose line search is running
+  bool havePending_ = false;
+  PetscInt historyCount_ = 0;
+  bool haveCurvature_ = false;         // adaptive filter: the true curvature of the update being taken is known
+  double energyBefore_ = 0.0, slope_ = 0.0, curvatureFull_ = 0.0;
+  bool halved_ = false;                // the safeguard shortened this iteration's direction
+  bool lastFull_ = false;              // the previous update was a full, unshortened step
+  double rnorm0_ = 0.0;                // reference of the linear solve's relative residual
+  bool forcingStopped_ = false;        // the last linear solve stopped early (-newton_forcing)
+  std::vector<double> alphaRef_, bandTop_;
+  PetscInt halvingsTotal_ = 0;
   PetscLogStage assemblyStage_ = -1;
 };
+
+// Short name of a Newton outcome for stats and console ("newton_step", "converged_initial", "diverged_line_search").
+std::string reasonName(const NewtonResult &r);
+const char *filterModeName(EigenFilterMode m);
 
 }  // namespace aries::solver

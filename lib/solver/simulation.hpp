@@ -29,6 +29,7 @@ struct SimulationOptions {
   FailurePolicy onFailure = FailurePolicy::Stop;
   PetscInt maxStepHalvings = 6;
   PetscInt maxLoadHalvings = 20;
+  bool predictorStart = false;  // -predictor_start (backward Euler; on by default there)
 };
 
 PetscErrorCode readSimulationOptions(SimulationOptions *opts);
@@ -87,6 +88,7 @@ class Simulation {
  private:
   PetscErrorCode applyInitialState();
   PetscErrorCode advance(double dt, double loadTarget, int depth, NewtonResult *acc, bool *ok, std::string *reason);
+  PetscErrorCode startFromPrediction();
   PetscErrorCode solveToLoad(double loadTarget, NewtonResult *acc, bool *ok, std::string *reason);
 
   fem::Discretization *disc_ = nullptr;
@@ -99,7 +101,5 @@ class Simulation {
   PetscInt loadSubsteps_ = 0;
 };
 
-// Short name of a SNES outcome for stats and console ("newton_step", "fnorm_rel", "diverged_line_search", ...).
-std::string reasonName(const NewtonResult &r);
 
 }  // namespace aries::solver
