@@ -119,6 +119,25 @@ class DiscretizationT final : public Discretization {
   PetscErrorCode cellAlpha(Vec xLocal, std::vector<double> *alpha) const override;
   PetscErrorCode cellGuard(Vec xLocal, std::vector<double> *guard) const override;
   PetscErrorCode cellQuantities(Vec xLocal, CellQuantities *q) const override;
+  PetscErrorCode barrierActiveCells(Vec xLocal, PetscInt *count) const override {
+    const PetscScalar *x;
+    MPI_Comm comm;
+    PetscFunctionBeginUser;
+    PetscCall(PetscObjectGetComm((PetscObject)mesh_->dm, &comm));
+    PetscInt local = 0;
+    PetscCall(VecGetArrayRead(xLocal, &x));
+    for (size_t c = 0; c < cells_.size(); ++c) {
+      const energies::Material &m = materialOf(c);
+      if (!cells_[c].owned || m.singularity.mode != energies::SingularityMode::Barrier ||
+          !energies::energyContainsStretchInvariant(m.kind))
+        continue;
+      const double a = energies::elementAlpha<R, C>(deformationGradient(cells_[c], x));
+      local += a > 0.0 && a < m.singularity.barrier.eps;
+    }
+    PetscCall(VecRestoreArrayRead(xLocal, &x));
+    PetscCallMPI(MPI_Allreduce(&local, count, 1, MPIU_INT, MPI_SUM, comm));
+    PetscFunctionReturn(0);
+  }
   void mollifierBandTop(std::vector<double> *top) const override {
     top->resize(cells_.size());
     for (size_t c = 0; c < cells_.size(); ++c) {

@@ -100,6 +100,9 @@ class Discretization {
   // Top of each local cell's singular band for the safeguard: the mollifier's eps for cells evaluated with the
   // mollifier (below it their I4/I6 terms are the constant proxy, Eq. 33: nothing is singular there), 0 otherwise.
   virtual void mollifierBandTop(std::vector<double> *top) const = 0;
+  // Cells whose aberration barrier is active at a local state: evaluated in barrier mode (not fallen back to the
+  // mollifier) with 0 < alpha < the barrier's eps (collective count).
+  virtual PetscErrorCode barrierActiveCells(Vec xLocal, PetscInt *count) const = 0;
 
   // Output in natural (serial gmsh) order, gathered on rank 0 (empty elsewhere).
   virtual PetscErrorCode gatherVertexField(Vec xLocal, std::vector<double> *values) const = 0;   // positions (x3)

@@ -113,6 +113,8 @@ PetscErrorCode RunOutput::afterStep(const solver::Simulation &sim, const solver:
   st.linearSolves = rep.newton.linearSolves;
   st.linearAtLimit = rep.newton.linearAtLimit;
   st.residual = rep.newton.residualNorm;
+  st.barrierFallback = rep.newton.barrierFallbackCells;
+  st.barrierCells = rep.newton.barrierActiveCells;
   PetscCall(disc.elasticEnergy(xLocal, &st.energy));
   std::vector<double> alpha;
   PetscCall(disc.cellAlpha(xLocal, &alpha));

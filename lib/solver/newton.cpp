@@ -56,6 +56,7 @@ NewtonResult &NewtonResult::operator+=(const NewtonResult &o) {
   convergence = o.convergence;
   residualNorm = o.residualNorm;
   barrierFallbackCells = std::max(barrierFallbackCells, o.barrierFallbackCells);
+  barrierActiveCells = std::max(barrierActiveCells, o.barrierActiveCells);
   history.insert(history.end(), o.history.begin(), o.history.end());
   return *this;
 }

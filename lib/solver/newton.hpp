@@ -66,6 +66,7 @@ struct NewtonResult {
   SNESConvergedReason reason = SNES_CONVERGED_ITERATING;
   Convergence convergence = Convergence::None;
   PetscInt barrierFallbackCells = 0;  // cells evaluated with the mollifier in barrier mode (alpha ~ 0)
+  PetscInt barrierActiveCells = 0;    // cells with an active aberration barrier (0 < alpha < eps) at the step start
   PetscReal residualNorm = 0.0;       // |gradient of the potential|_2 over the free dofs at the last iterate
   std::vector<IterationRecord> history;
   bool converged() const { return reason > 0; }

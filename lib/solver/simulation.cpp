@@ -282,9 +282,12 @@ PetscErrorCode Simulation::advance(double dt, double loadTarget, int depth, Newt
     PetscInt fallback = 0;
     PetscCall(DMGetLocalVector(disc_->dm(), &xLocal));
     PetscCall(localState(xLocal));
+    PetscInt active = 0;
     PetscCall(disc_->updateBarrierFallback(xLocal, std::max(newton_.alphaMin(), 0.0), &fallback));
+    PetscCall(disc_->barrierActiveCells(xLocal, &active));
     PetscCall(DMRestoreLocalVector(disc_->dm(), &xLocal));
     acc->barrierFallbackCells = std::max(acc->barrierFallbackCells, fallback);
+    acc->barrierActiveCells = std::max(acc->barrierActiveCells, active);
   }
   PetscCall(solveToLoad(loadTarget, acc, ok, reason));
   if (*ok) {
