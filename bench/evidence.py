@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-"""The evidence report: speed vs accuracy, the stability matrix, solvers, parallel/memory, kernels.
+"""The evidence report: speed vs accuracy, the stability matrix, solvers, parallel/memory, kernels, Newton convergence.
 
-usage: bench/evidence.py quick|full [--build DIR] [--sections 1,2,3,4,5]
+usage: bench/evidence.py quick|full [--build DIR] [--sections 1,2,3,4,5,6]
 
 Called by bench/run (which builds aries and the STREAM triad first). Runs aries on the scenes of options/ with
 bounded steps and subprocess timeouts and writes docs/results.md plus the PNG charts in docs/images/results/ (full:
@@ -77,7 +77,17 @@ MODES = {
                        ("bunny_inside_out", "paper", 1, [], ITERATIVE[:2], 1)],
         solver_max_it=15, solver_timeout=240,
         scale_mesh=("bunny", "paper"), scale_newton=2, scale_ksp=100, scale_timeout=600,
-        kernel_min_time="0.05"),
+        kernel_min_time="0.05",
+        # Section 6: (label, options file, mesh (name, size), steps, extra options)
+        newton_scenes=[("inside-out bunny", "bunny_inside_out", ("bunny", "test"), 20, []),
+                       ("inside-out bunny, density 1", "bunny_inside_out", ("bunny", "test"), 20, ["-density", "1"]),
+                       ("armadillo scramble", "armadillo_scramble", ("armadillo", "test"), 100, []),
+                       ("armadillo scramble, density 1", "armadillo_scramble", ("armadillo", "test"), 100,
+                        ["-density", "1"]),
+                       ("crushed armadillo, barrier", "armadillo_crush_barrier", ("armadillo", "test"), 20, []),
+                       ("cloth drop, ours (Eq. 53)", "cloth_drop_ours", ("cloth", "test"), 60, [])],
+        newton_static=["armadillo", "cube", "cylinder", "triceratops", "hand"], newton_static_size="test",
+        newton_seeds=[1, 2, 3], newton_chart=("bunny", "test"), newton_timeout=600),
     "full": dict(
         acc_tols=[1e-1, 3e-2, 1e-2, 3e-3, 1e-3, 1e-4, 1e-5], acc_ref_tol=1e-8,
         cyl_meshes=["test", "default"], cyl_steps=10, cyl_big_methods=None, cyl_big_tols=None,
@@ -94,7 +104,18 @@ MODES = {
                        ("bunny_inside_out", "paper", 1, [], ["MUMPS LU (direct)"], 1, 1500)],
         solver_max_it=3000, solver_timeout=2 * 3600,
         scale_mesh=("bunny", "paper"), scale_newton=5, scale_ksp=300, scale_timeout=3600,
-        kernel_min_time="0.15"),
+        kernel_min_time="0.15",
+        newton_scenes=[("inside-out bunny", "bunny_inside_out", ("bunny", "default"), 200, []),
+                       ("inside-out bunny, density 1", "bunny_inside_out", ("bunny", "default"), 200,
+                        ["-density", "1"]),
+                       ("armadillo scramble", "armadillo_scramble", ("armadillo", "default"), 2000, []),
+                       ("armadillo scramble, density 1", "armadillo_scramble", ("armadillo", "default"), 2000,
+                        ["-density", "1"]),
+                       ("crushed armadillo, barrier", "armadillo_crush_barrier", ("armadillo", "default"), 200, []),
+                       ("cloth drop, ours (Eq. 53)", "cloth_drop_ours", ("cloth", "default"), 100, []),
+                       ("cloth drop, Baraff-Witkin (Kim 2020)", "cloth_drop_bw", ("cloth", "default"), 100, [])],
+        newton_static=["armadillo", "cube", "cylinder", "triceratops", "hand"], newton_static_size="test",
+        newton_seeds=[1, 2, 3], newton_chart=("bunny", "default"), newton_timeout=4 * 3600),
 }
 
 SOLIDS = [  # label, options, chart style
@@ -603,6 +624,135 @@ def section_stability(cfg):
 
 
 # ----------------------------------------------------------------------------------------------------------------
+# Section 6: Newton convergence
+# The previous default algorithm (projected Newton with clamped element Hessians, backtracking on the energy, no
+# subspace step, zero initial guesses, Newton started at x_n) and the alternatives the options offer, against the
+# default. The convergence tests and the safeguard are the current ones in every variant.
+PLAIN_DYNAMIC = ["-psd_projection", "clamp", "-newton_subspace", "0", "-newton_inertia_guess", "0",
+                 "-predictor_start", "0"]
+PLAIN_STATIC = ["-psd_projection", "clamp", "-newton_subspace", "0"]
+NEWTON_VARIANTS = [  # label, backward Euler options, static options
+    ("plain projected Newton (clamp)", PLAIN_DYNAMIC, PLAIN_STATIC),
+    ("abs filter", ["-psd_projection", "abs", "-newton_subspace", "0"], ["-psd_projection", "abs",
+                                                                          "-newton_subspace", "0"]),
+    ("adaptive filter", ["-psd_projection", "adaptive", "-newton_subspace", "0"],
+     ["-psd_projection", "adaptive", "-newton_subspace", "0"]),
+    ("default (subspace step, ...)", [], []),
+]
+CONVERGED = ("newton_step", "converged_initial", "step_bound", "energy_roundoff")
+
+
+def newton_history(r):
+    path = os.path.join(r.dir, "newton.csv")
+    if not os.path.exists(path):
+        return []
+    with open(path) as fh:
+        return list(csv.DictReader(fh))
+
+
+def section_newton(cfg):
+    out = ["## 6. Newton convergence\n",
+           "Variants (every one with the current convergence tests and safeguard, docs/options.md): **plain projected "
+           "Newton (clamp)** = the previous default (`%s`; static solves `%s`), the element Hessians' negative "
+           "eigenvalues clamped to 0, bt line search on the energy; **abs filter** and **adaptive filter** (Chen et "
+           "al. 2024: absolute values; clamp or abs by the trust-region ratio of the previous update) without the "
+           "subspace step; **default** = `-newton_subspace 1` (the update minimizes the exact quadratic model over "
+           "the Newton direction and the previous update), clamp with inertia / abs in static solves, the inertia "
+           "initial guess and the predictor start (backward Euler). Averages are over **every step run** (all steps "
+           "of a scene in `full`; `quick` runs the first steps on the test meshes, stated per row). Newton = updates "
+           "of the state per step; solves = linear solves per step (the one that certifies convergence included); "
+           "PCG = CG iterations per step.\n" % (" ".join(PLAIN_DYNAMIC), " ".join(PLAIN_STATIC))]
+    rows = ["| scene (mesh, steps run of the scene's) | variant | steps converged | Newton / step | solves / step | "
+            "PCG / step | s / step | step 1 Newton | barrier cells at step 1 |", "|---|---|---:|---:|---:|---:|---:|---:|---:|"]
+    chart_runs = {}
+    for label, opts, (mname, msize), steps, extra in cfg["newton_scenes"]:
+        m = mesh(mname, msize)
+        text = open(os.path.join(ROOT, "options", opts + ".yml")).read()
+        total = int(re.search(r"^steps:\s*(\d+)", text, re.M).group(1))
+        cloth = ["-dm_plex_gmsh_spacedim", "3"] if "spacedim" in text else []
+        for vlabel, vdyn, _ in NEWTON_VARIANTS:
+            tag = "newton_%s_%s" % (slug(label), slug(vlabel))
+            hist = os.path.join(WORK, tag, "newton.csv")
+            r = Run(tag, opts_file(opts) + ["-dm_plex_filename", m] + cloth + ["-steps", str(min(steps, total))] +
+                    extra + vdyn + ["-newton_history", hist], ranks=2, timeout=cfg["newton_timeout"])
+            n = max(len(r.rows), 1)
+            ok = sum(1 for x in r.rows if x["reason"] in CONVERGED)
+            rows.append("| %s (%s %s, %d of %d) | %s | %d / %d%s | %.2f | %.2f | %.0f | %.3f | %s | %s |" % (
+                label, mname, msize, min(steps, total), total, vlabel, ok, len(r.rows),
+                " (time limit)" if r.timed_out else "", r.sum("newton_its") / n, r.sum("linear_solves") / n,
+                r.sum("ksp_its") / n, r.solve_seconds() / n, r.rows[0]["newton_its"] if r.rows else "-",
+                r.rows[0].get("barrier_cells", "-") if r.rows else "-"))
+            if (mname, msize) == cfg["newton_chart"] and not extra:
+                chart_runs[vlabel] = newton_history(r)
+    out += rows + [""]
+
+    # static scrambles: box pin (bottom 10% of the rest bounding box), E = 1e4, nu = 0.3, 30 static steps
+    out += ["Static scramble (30 quasistatic steps, 2 ranks, every free vertex uniform in a cube of twice the rest "
+            "volume, the vertices in the bottom 10%% of the rest bounding box pinned, iarap + mollifier, E = 1e4, "
+            "nu = 0.3): step-1 Newton updates / linear solves, CG solves stopped by `-ksp_max_it` (all steps), final "
+            "max distance to rest / L, and whether all 30 steps converged. triceratops and hand are surfaces no other "
+            "test uses (meshes/README.md).\n",
+            "| mesh | seed | plain: step 1 Newton | plain: error / L | plain: all converged | default: step 1 Newton / "
+            "solves | default: CG at limit | default: error / L | default: all converged |",
+            "|---|---:|---:|---:|---|---:|---:|---:|---|"]
+    static_hist = {}
+    for mname in cfg["newton_static"]:
+        m = mesh(mname, cfg["newton_static_size"])
+        with open(m[:-4] + ".json") as fh:
+            meta = json.load(fh)
+        lo, hi = meta["bbox_min"], meta["bbox_max"]
+        box = "%g,%g,%g,%g,%g,%g" % (lo[0] - 1, hi[0] + 1, lo[1] - 1, hi[1] + 1, lo[2] - 1,
+                                      lo[2] + 0.1 * (hi[2] - lo[2]))
+        for seed in cfg["newton_seeds"]:
+            cells = []
+            for vlabel, variant in (("plain", PLAIN_STATIC), ("default", [])):
+                tag = "newton_static_%s_%d_%s" % (mname, seed, vlabel)
+                hist = os.path.join(WORK, tag, "newton.csv")
+                r = Run(tag, ["-dm_plex_filename", m, "-energy", "iarap", "-E", "1e4", "-nu", "0.3", "-integrator",
+                              "static", "-steps", "30", "-initial", "scramble", "-scramble_seed", str(seed),
+                              "-bc_box", box, "-newton_history", hist] + variant, ranks=2, timeout=600)
+                x = r.positions()
+                err = shape_error(r.rest(), x, False)[0] if x is not None and r.rows else None
+                conv = bool(r.rows) and r.rc == 0 and all(x_["reason"] in CONVERGED for x_ in r.rows)
+                cells.append((r, err, conv))
+                if mname == "armadillo" and seed == cfg["newton_seeds"][0]:
+                    static_hist[vlabel] = newton_history(r)
+            (rp, ep, cp), (rd, ed, cd) = cells
+            out.append("| %s | %d | %s | %s | %s | %s / %s | %d | %s | %s |" % (
+                mname, seed, rp.rows[0]["newton_its"] if rp.rows else "-", fmt_err(ep), "yes" if cp else "**no**",
+                rd.rows[0]["newton_its"] if rd.rows else "-", rd.rows[0]["linear_solves"] if rd.rows else "-",
+                rd.sum("ksp_at_limit") if rd.rows else 0, fmt_err(ed), "yes" if cd else "**no**"))
+    out.append("")
+
+    # chart: residual and energy vs Newton iteration, step 1 of the inside-out bunny and of a static scramble
+    fig, axes = plt.subplots(2, 2, figsize=(11, 7))
+    for col, (title, runs) in enumerate((("inside-out bunny (%s), step 1" % cfg["newton_chart"][1], chart_runs),
+                                         ("static scramble, armadillo test seed %d, step 1" % cfg["newton_seeds"][0],
+                                          {("plain projected Newton (clamp)" if k == "plain" else
+                                            "default (subspace step, ...)"): v for k, v in static_hist.items()}))):
+        for vlabel, hist in runs.items():
+            h = [x for x in hist if x["step"] == "1"]
+            if not h:
+                continue
+            it = [int(x["iteration"]) for x in h]
+            e = np.array([float(x["energy"]) for x in h])
+            axes[0, col].semilogy(it, [float(x["residual"]) for x in h], label=vlabel, lw=1)
+            axes[1, col].semilogy(it, np.maximum(e - e.min(), 1e-16 * abs(e).max()), label=vlabel, lw=1)
+        axes[0, col].set_title(title, fontsize=9)
+        axes[0, col].set_ylabel("|gradient|_2", fontsize=8)
+        axes[1, col].set_ylabel("energy - final energy", fontsize=8)
+        axes[1, col].set_xlabel("Newton iteration", fontsize=8)
+        for ax in axes[:, col]:
+            ax.grid(True, alpha=0.3)
+            ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(IMG, "newton_convergence.png"), dpi=110)
+    plt.close(fig)
+    out.insert(1, "![Newton convergence](%s/newton_convergence.png)\n" % IMG_REL)
+    return out + [""]
+
+
+# ----------------------------------------------------------------------------------------------------------------
 # Section 3: linear solvers
 def mumps_available():
     """Whether this PETSc has MUMPS: one small solve with it (the test cylinder, 1 step)."""
@@ -892,7 +1042,7 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("mode", choices=list(MODES))
     ap.add_argument("--build", default=os.path.join(ROOT, "build-bench"))
-    ap.add_argument("--sections", default="1,2,3,4,5")
+    ap.add_argument("--sections", default="1,2,3,4,5,6")
     ap.add_argument("--reuse", action="store_true",
                     help="read back finished runs with the same command line instead of running them again")
     a = ap.parse_args()
@@ -922,7 +1072,7 @@ def main():
                            capture_output=True, text=True).stdout.strip()
     t0 = time.monotonic()
     sections = {1: section_speed_accuracy, 2: section_stability, 3: section_solvers, 4: section_scaling,
-                5: section_kernels}
+                5: section_kernels, 6: section_newton}
     chosen = [int(s) for s in a.sections.split(",")]
     body, timing = [], []
     for k in sorted(sections):
