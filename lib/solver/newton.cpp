@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <string>
 
 namespace aries::solver {
@@ -25,7 +26,9 @@ constexpr double kGuardMargin = 2.0;
 // Scoped local copy of a global vector (zeros at the Dirichlet dofs unless the boundary is filled).
 class LocalVec {
  public:
-  LocalVec(DM dm) : dm_(dm) {}
+  explicit LocalVec(DM dm) : dm_(dm) {}
+  LocalVec(const LocalVec &) = delete;
+  LocalVec &operator=(const LocalVec &) = delete;
   ~LocalVec() {
     if (v_) DMRestoreLocalVector(dm_, &v_);
   }
@@ -173,13 +176,14 @@ PetscErrorCode NewtonSolver::objectiveCallback(SNES, Vec x, PetscReal *value, vo
 PetscErrorCode NewtonSolver::gram(Vec X, const std::vector<Vec> &directions, std::vector<double> *G) {
   const DM dm = disc_->dm();
   LocalVec xl(dm);
-  std::vector<LocalVec> dl(directions.size(), LocalVec(dm));
+  std::vector<std::unique_ptr<LocalVec>> dl;
   std::vector<Vec> d(directions.size());
   PetscFunctionBeginUser;
   PetscCall(xl.fromGlobal(X, disc_));
   for (size_t k = 0; k < directions.size(); ++k) {
-    PetscCall(dl[k].fromGlobal(directions[k], nullptr));
-    d[k] = dl[k].get();
+    dl.push_back(std::make_unique<LocalVec>(dm));
+    PetscCall(dl[k]->fromGlobal(directions[k], nullptr));
+    d[k] = dl[k]->get();
   }
   PetscCall(PetscLogStagePush(assemblyStage_));
   PetscCall(disc_->curvatureGram(xl.get(), d, G));
