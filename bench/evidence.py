@@ -688,7 +688,7 @@ def section_newton(cfg):
 
     # static scrambles: box pin (bottom 10% of the rest bounding box), E = 1e4, nu = 0.3, 30 static steps
     out += ["Static scramble (30 quasistatic steps, 2 ranks, every free vertex uniform in a cube of twice the rest "
-            "volume, the vertices in the bottom 10%% of the rest bounding box pinned, iarap + mollifier, E = 1e4, "
+            "volume, the vertices in the bottom 10% of the rest bounding box pinned, iarap + mollifier, E = 1e4, "
             "nu = 0.3): step-1 Newton updates / linear solves, CG solves stopped by `-ksp_max_it` (all steps), final "
             "max distance to rest / L, and whether all 30 steps converged. triceratops and hand are surfaces no other "
             "test uses (meshes/README.md).\n",
