@@ -48,6 +48,53 @@ PetscErrorCode gatherNatural(MPI_Comm comm, const std::vector<PetscInt> &ids, co
   PetscFunctionReturn(0);
 }
 
+// Matrix adjacency of a surface mesh with bending hinges (DMPlexSetAdjacencyUser): a hinge couples the two vertices
+// opposite an interior edge, which share no triangle, so the default FEM adjacency (the closure of the star) misses
+// them. Here adj(p) is the closure of every triangle in the star of p and of the triangles across their edges: exactly
+// the hinge partners added, so DMCreateMatrix preallocates every coupling and assembly never mallocs.
+PetscErrorCode hingeAdjacency(DM dm, PetscInt p, PetscInt *adjSize, PetscInt adj[], void *) {
+  const PetscInt capacity = *adjSize;
+  PetscInt n = 0, cStart, cEnd, nstar = 0, *star = nullptr;
+  PetscFunctionBeginUser;
+  const auto add = [&](PetscInt q) -> PetscErrorCode {
+    PetscFunctionBeginUser;
+    for (PetscInt i = 0; i < n; ++i)
+      if (adj[i] == q) PetscFunctionReturn(0);
+    PetscCheck(n < capacity, PETSC_COMM_SELF, PETSC_ERR_PLIB, "hinge adjacency of point %" PetscInt_FMT
+               " exceeds DMPlex's bound of %" PetscInt_FMT " points", p, capacity);
+    adj[n++] = q;
+    PetscFunctionReturn(0);
+  };
+  const auto addClosure = [&](PetscInt cell) -> PetscErrorCode {
+    PetscInt nclosure = 0, *closure = nullptr;
+    PetscFunctionBeginUser;
+    PetscCall(DMPlexGetTransitiveClosure(dm, cell, PETSC_TRUE, &nclosure, &closure));
+    for (PetscInt i = 0; i < nclosure; ++i) PetscCall(add(closure[2 * i]));
+    PetscCall(DMPlexRestoreTransitiveClosure(dm, cell, PETSC_TRUE, &nclosure, &closure));
+    PetscFunctionReturn(0);
+  };
+  PetscCall(DMPlexGetHeightStratum(dm, 0, &cStart, &cEnd));
+  PetscCall(DMPlexGetTransitiveClosure(dm, p, PETSC_FALSE, &nstar, &star));
+  for (PetscInt i = 0; i < nstar; ++i) {
+    const PetscInt t = star[2 * i];
+    if (t < cStart || t >= cEnd) continue;
+    PetscInt nedges;
+    const PetscInt *edges;
+    PetscCall(DMPlexGetConeSize(dm, t, &nedges));
+    PetscCall(DMPlexGetCone(dm, t, &edges));
+    for (PetscInt e = 0; e < nedges; ++e) {
+      PetscInt nsupp;
+      const PetscInt *supp;
+      PetscCall(DMPlexGetSupportSize(dm, edges[e], &nsupp));
+      PetscCall(DMPlexGetSupport(dm, edges[e], &supp));
+      for (PetscInt k = 0; k < nsupp; ++k) PetscCall(addClosure(supp[k]));
+    }
+  }
+  PetscCall(DMPlexRestoreTransitiveClosure(dm, p, PETSC_FALSE, &nstar, &star));
+  *adjSize = n;
+  PetscFunctionReturn(0);
+}
+
 // Material frame of a rest triangle in 3D with (oriented) unit normal n: the projection of the global x and y axes
 // onto its plane (a flat cloth in the xy plane with normals +z has u = x, v = y); falls back to (x,z) / (y,z). The
 // frame is made right-handed about n, so every rest triangle of a consistently oriented surface has a positive
@@ -154,7 +201,6 @@ class DiscretizationT final : public Discretization {
   PetscErrorCode gatherTopology(std::vector<PetscInt> *cells) const override;
   PetscErrorCode cellFibers(std::vector<double> *fibers) const override;
   int shapeCols() const override { return C; }
-  bool couplesBeyondCells() const override { return !hinges_.empty(); }
   void forEachOwnedFreeVertex(
       const std::function<void(PetscInt, PetscInt, PetscInt, const Eigen::Vector3d &)> &fn) const override;
   PetscErrorCode maxDisplacement(Vec xLocal, PetscReal *value) const override;
@@ -639,6 +685,7 @@ PetscErrorCode DiscretizationT<R, C>::setupSurfaceTerms(Mesh &mesh, double dt) {
                                        verts_[h.vertex[3]].rest);
         hinges_.push_back(h);
       }
+      PetscCall(DMPlexSetAdjacencyUser(dm, hingeAdjacency, nullptr));
     }
   }
   if constexpr (R == 3) {

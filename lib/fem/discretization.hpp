@@ -85,9 +85,6 @@ class Discretization {
   // call finds them above it. Called at the start of each step, so every Newton solve sees one fixed energy.
   // Returns the number of such elements (collective).
   virtual PetscErrorCode updateBarrierFallback(Vec xLocal, double threshold, PetscInt *count) = 0;
-  // True if the Hessian couples vertices that share no cell (cloth bending hinges): the matrix must accept nonzeros
-  // beyond the DM's cell-adjacency preallocation.
-  virtual bool couplesBeyondCells() const = 0;
   // Elastic energy only (for reports).
   virtual PetscErrorCode elasticEnergy(Vec xLocal, PetscReal *value) const = 0;
 

@@ -726,7 +726,6 @@ PetscErrorCode NewtonSolver::setup(fem::Discretization &disc, bool dynamic, doub
   if (set) PetscCall(DMSetMatType(dm, matType.c_str()));
   PetscCall(DMCreateMatrix(dm, &J_));
   PetscCall(MatSetOption(J_, MAT_SYMMETRIC, PETSC_TRUE));
-  if (disc.couplesBeyondCells()) PetscCall(MatSetOption(J_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
   PetscCall(SNESSetJacobian(snes_, J_, J_, nullptr, nullptr));
   PetscCall(DMCreateGlobalVector(dm, &work_));
   PetscCall(VecDuplicate(work_, &prevX_));
