@@ -10,6 +10,10 @@
 
 #include <petscsys.h>
 
+#include <sys/stat.h>
+
+#include <cstdio>
+#include <fstream>
 #include <string>
 
 using namespace aries;
@@ -119,9 +123,35 @@ PetscErrorCode run(int *exitCode) {
   PetscFunctionReturn(0);
 }
 
+// PETSc opens -options_file / -options_file_yaml inside PetscInitialize and reports a missing one as a page of PETSc
+// error text: check them first, so a mistyped scene path is one line. Empty string = all readable.
+std::string optionsFileProblem(int argc, char **argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string opt = argv[i];
+    if (opt != "-options_file" && opt != "-options_file_yaml") continue;
+    if (i + 1 >= argc) return "option " + opt + " needs a file name";
+    const std::string file = argv[++i];
+    struct stat st;
+    if (stat(file.c_str(), &st) != 0 || !std::ifstream(file))
+      return "options file '" + file + "' (" + opt + ") does not exist or is not readable";
+    if (!S_ISREG(st.st_mode)) return "options file '" + file + "' (" + opt + ") is not a regular file";
+  }
+  return {};
+}
+
 }  // namespace
 
 int main(int argc, char **argv) {
+  // MPI first (PETSc then leaves finalizing it to us), so only rank 0 reports a bad options file.
+  MPI_Init(&argc, &argv);
+  const std::string problem = optionsFileProblem(argc, argv);
+  if (!problem.empty()) {
+    int rank = 0;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    if (rank == 0) std::fprintf(stderr, "aries: error: %s\n", problem.c_str());
+    MPI_Finalize();
+    return 1;
+  }
   PetscErrorCode ierr = PetscInitialize(&argc, &argv, nullptr, kHelp);
   if (ierr) return 2;
   int exitCode = 0;
@@ -135,5 +165,6 @@ int main(int argc, char **argv) {
     if (exitCode == 2 && size > 1) MPI_Abort(PETSC_COMM_WORLD, exitCode);  // ranks may be stuck in a collective
   }
   PetscFinalize();
+  MPI_Finalize();
   return exitCode;
 }

@@ -43,6 +43,24 @@ $EndElements
 """
 
 
+TRI_MSH = """$MeshFormat
+2.2 0 8
+$EndMeshFormat
+$Nodes
+4
+1 0 0 0
+2 1 0 0
+3 0 1 0
+4 1 1 Z
+$EndNodes
+$Elements
+2
+1 2 2 1 1 1 2 3
+2 2 2 1 1 2 4 3
+$EndElements
+"""
+
+
 def write(name, text):
     path = os.path.join(ARGS.work, name)
     with open(path, "w") as fh:
@@ -119,6 +137,15 @@ def case_defs():
                                   r"option -newton_subspace must be in 0\.\.7 \(got 9\)")
     d["newton_forcing_range"] = (lambda: ["-dm_plex_filename", good_mesh(), "-newton_forcing", "1.5"],
                                  r"option -newton_forcing must be in \[0, 1\) \(got 1\.5\)")
+    d["missing_options_file"] = (lambda: ["-options_file", os.path.join(w, "nope.yml")],
+                                 r"options file '.*nope\.yml' \(-options_file\) does not exist or is not readable")
+    d["curved_surface_read_flat"] = (lambda: ["-dm_plex_filename", write("curved.msh", TRI_MSH.replace("Z", "0.5"))],
+                                     r"curved\.msh' is a triangle surface that is not flat \(z varies by 0\.5\) but "
+                                     r"would be read in 2D with z dropped: pass -dm_plex_gmsh_spacedim 3")
+    d["cloth_energy_planar_mesh"] = (lambda: ["-dm_plex_filename", write("flat_tri.msh", TRI_MSH.replace("Z", "0")),
+                                              "-energy", "bw46s"],
+                                     r"option -energy: energy 'bw46s' is not defined for planar triangle .*"
+                                     r"-dm_plex_gmsh_spacedim 3")
     return d
 
 

@@ -1,9 +1,10 @@
-# Robustness (issue 7): bad input (one error line, exit 1, no output files; 1 and 2 ranks), kill and restart,
+# Robustness: bad input (one error line, exit 1, no output files; 1 and 2 ranks), kill and restart,
 # failure policies, determinism. The bad-input cases are listed by ctest/bad_input.py itself.
 execute_process(COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/ctest/bad_input.py --list
                 OUTPUT_VARIABLE ARIES_BAD_INPUT_CASES OUTPUT_STRIP_TRAILING_WHITESPACE)
 # Every case on one rank; a representative subset on two (the collective error path is shared by all cases).
-set(ARIES_BAD_INPUT_NP2 missing_mesh truncated_mesh degenerate_cell fiber_count unknown_bc_set strict_unknown_option)
+set(ARIES_BAD_INPUT_NP2 missing_mesh truncated_mesh degenerate_cell fiber_count unknown_bc_set strict_unknown_option
+    missing_options_file curved_surface_read_flat cloth_energy_planar_mesh)
 foreach(case ${ARIES_BAD_INPUT_CASES})
   set(ranks_list 1)
   if(case IN_LIST ARIES_BAD_INPUT_NP2)

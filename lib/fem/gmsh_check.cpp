@@ -4,6 +4,8 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -101,24 +103,41 @@ bool checkElementType(Reader &r, int type) {
   return r.fail(o.str());
 }
 
-// One parser per section and format version; they record the node tags so elements can be checked against them.
-using SectionParser = bool (*)(Reader &r, std::unordered_set<long> *nodes);
+// What the parsers record: node tags (so elements can be checked against them) and the coordinate range.
+struct NodeData {
+  std::unordered_set<long> tags;
+  GmshFacts facts;
+  void addPoint(double x, double y, double z) {
+    const double p[3] = {x, y, z};
+    for (int d = 0; d < 3; ++d) {
+      lo[d] = std::min(lo[d], p[d]);
+      hi[d] = std::max(hi[d], p[d]);
+    }
+    facts.zRange = hi[2] - lo[2];
+    facts.extent = std::max({facts.extent, hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+  }
+  double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+};
 
-bool nodes2(Reader &r, std::unordered_set<long> *nodes) {
+// One parser per section and format version.
+using SectionParser = bool (*)(Reader &r, NodeData *nodes);
+
+bool nodes2(Reader &r, NodeData *nodes) {
   std::vector<double> v;
   if (!r.numbers(&v, "$Nodes") || v.size() != 1) return r.fail("expected the number of nodes after $Nodes");
   const long n = static_cast<long>(v[0]);
   for (long i = 0; i < n; ++i) {
     if (!r.numbers(&v, "$Nodes", n, i)) return false;
     if (v.size() != 4) return r.fail("a node line needs 4 numbers (id x y z)");
-    if (!nodes->insert(static_cast<long>(v[0])).second)
+    nodes->addPoint(v[1], v[2], v[3]);
+    if (!nodes->tags.insert(static_cast<long>(v[0])).second)
       return r.fail("node " + std::to_string((long)v[0]) + " is defined twice");
   }
   if (!r.expect("$EndNodes")) return r.fail("$Nodes declares " + std::to_string(n) + " nodes but has more or fewer");
   return true;
 }
 
-bool elements2(Reader &r, std::unordered_set<long> *nodes) {
+bool elements2(Reader &r, NodeData *nodes) {
   std::vector<double> v;
   if (!r.numbers(&v, "$Elements") || v.size() != 1) return r.fail("expected the number of elements after $Elements");
   const long n = static_cast<long>(v[0]);
@@ -132,7 +151,7 @@ bool elements2(Reader &r, std::unordered_set<long> *nodes) {
       return r.fail("element " + std::to_string((long)v[0]) + " has " + std::to_string(v.size()) +
                     " numbers, expected " + std::to_string(expected));
     for (size_t k = 3 + ntags; k < v.size(); ++k)
-      if (!nodes->count(static_cast<long>(v[k])))
+      if (!nodes->tags.count(static_cast<long>(v[k])))
         return r.fail("element " + std::to_string((long)v[0]) + " uses node " + std::to_string((long)v[k]) +
                       ", which is not defined");
   }
@@ -141,7 +160,7 @@ bool elements2(Reader &r, std::unordered_set<long> *nodes) {
   return true;
 }
 
-bool nodes4(Reader &r, std::unordered_set<long> *nodes) {
+bool nodes4(Reader &r, NodeData *nodes) {
   std::vector<double> v;
   if (!r.numbers(&v, "$Nodes") || v.size() != 4) return r.fail("expected 'numBlocks numNodes minTag maxTag' after $Nodes");
   const long blocks = static_cast<long>(v[0]), total = static_cast<long>(v[1]);
@@ -155,16 +174,18 @@ bool nodes4(Reader &r, std::unordered_set<long> *nodes) {
       if (!r.numbers(&v, "$Nodes") || v.size() != 1) return r.fail("expected a node tag");
       tags.push_back(static_cast<long>(v[0]));
     }
-    for (long i = 0; i < n; ++i)
+    for (long i = 0; i < n; ++i) {
       if (!r.numbers(&v, "$Nodes") || v.size() != 3) return r.fail("expected x y z of a node");
-    for (long t : tags) nodes->insert(t);
+      nodes->addPoint(v[0], v[1], v[2]);
+    }
+    for (long t : tags) nodes->tags.insert(t);
     seen += n;
   }
   if (seen != total) return r.fail("$Nodes declares " + std::to_string(total) + " nodes but its blocks have " + std::to_string(seen));
   return r.expect("$EndNodes");
 }
 
-bool elements4(Reader &r, std::unordered_set<long> *nodes) {
+bool elements4(Reader &r, NodeData *nodes) {
   std::vector<double> v;
   if (!r.numbers(&v, "$Elements") || v.size() != 4) return r.fail("expected 'numBlocks numElements minTag maxTag' after $Elements");
   const long blocks = static_cast<long>(v[0]), total = static_cast<long>(v[1]);
@@ -178,7 +199,7 @@ bool elements4(Reader &r, std::unordered_set<long> *nodes) {
       if (!r.numbers(&v, "$Elements")) return false;
       if (v.size() != static_cast<size_t>(1 + nodesOfType(type))) return r.fail("element line with a wrong number of nodes");
       for (size_t k = 1; k < v.size(); ++k)
-        if (!nodes->count(static_cast<long>(v[k]))) return r.fail("element uses undefined node " + std::to_string((long)v[k]));
+        if (!nodes->tags.count(static_cast<long>(v[k]))) return r.fail("element uses undefined node " + std::to_string((long)v[k]));
     }
     seen += n;
   }
@@ -188,9 +209,9 @@ bool elements4(Reader &r, std::unordered_set<long> *nodes) {
 }
 
 // Other sections ($PhysicalNames, $Entities, ...) are skipped line by line; PETSc reads them.
-bool validateSections(Reader &r, SectionParser parseNodes, SectionParser parseElements) {
+bool validateSections(Reader &r, SectionParser parseNodes, SectionParser parseElements, NodeData *nodesOut) {
   std::string l;
-  std::unordered_set<long> nodes;
+  NodeData &nodes = *nodesOut;
   bool sawNodes = false, sawElements = false;
   while (r.line(&l)) {
     if (l == "$Nodes") {
@@ -207,7 +228,7 @@ bool validateSections(Reader &r, SectionParser parseNodes, SectionParser parseEl
   return true;
 }
 
-std::string validateFile(const std::string &file) {
+std::string validateFile(const std::string &file, GmshFacts *facts) {
   struct stat st;
   if (stat(file.c_str(), &st) != 0)
     return "mesh file '" + file + "' (-dm_plex_filename) does not exist or is not readable; generate scene meshes with "
@@ -237,18 +258,28 @@ std::string validateFile(const std::string &file) {
   }
   if (fileType != 0) return {};  // binary: left to PETSc's reader
   if (!r.expect("$EndMeshFormat")) return r.error();
-  const bool ok = version < 3.0 ? validateSections(r, nodes2, elements2) : validateSections(r, nodes4, elements4);
+  NodeData nodes;
+  const bool ok = version < 3.0 ? validateSections(r, nodes2, elements2, &nodes)
+                                : validateSections(r, nodes4, elements4, &nodes);
+  if (ok) {
+    *facts = nodes.facts;
+    facts->coordinatesKnown = true;
+  }
   return ok ? std::string() : r.error();
 }
 
 }  // namespace
 
-PetscErrorCode validateGmshFile(MPI_Comm comm, const std::string &file) {
+PetscErrorCode validateGmshFile(MPI_Comm comm, const std::string &file, GmshFacts *facts) {
   PetscMPIInt rank;
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  const std::string err = rank == 0 ? validateFile(file) : std::string();
+  GmshFacts mine;
+  const std::string err = rank == 0 ? validateFile(file, &mine) : std::string();
   PetscCall(collectiveCheck(comm, !err.empty(), err));
+  double packed[3] = {mine.coordinatesKnown ? 1.0 : 0.0, mine.zRange, mine.extent};
+  PetscCallMPI(MPI_Bcast(packed, 3, MPI_DOUBLE, 0, comm));
+  *facts = GmshFacts{packed[0] != 0.0, packed[1], packed[2]};
   PetscFunctionReturn(0);
 }
 

@@ -11,7 +11,15 @@
 
 namespace aries::fem {
 
-// Collective: rank 0 reads the file; every rank raises the same PETSC_ERR_USER_INPUT on a problem.
-PetscErrorCode validateGmshFile(MPI_Comm comm, const std::string &file);
+// What the check learns about the node coordinates (ASCII files only; coordinatesKnown is false for binary files).
+struct GmshFacts {
+  bool coordinatesKnown = false;
+  double zRange = 0.0;   // max z - min z over the nodes
+  double extent = 0.0;   // largest side of the nodes' bounding box
+};
+
+// Collective: rank 0 reads the file; every rank raises the same PETSC_ERR_USER_INPUT on a problem and receives the
+// same facts.
+PetscErrorCode validateGmshFile(MPI_Comm comm, const std::string &file, GmshFacts *facts);
 
 }  // namespace aries::fem

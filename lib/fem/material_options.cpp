@@ -77,9 +77,15 @@ PetscErrorCode readMaterialOptions(const char *prefix, ElementShape shape, const
     m.kind = EnergyKind::Bw46;  // the isotropic cloth default
   }
   const char *ename = energies::energyName(m.kind);
-  if (!energies::energySupportsShape(m.kind, shape))
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: energy '%s' is not defined for %s elements",
-            optionName(prefix, "-energy").c_str(), ename, energies::shapeName(shape));
+  if (!energies::energySupportsShape(m.kind, shape)) {
+    // A gmsh triangle mesh is read in 2D unless told otherwise: name the flag that makes it a cloth.
+    const bool clothOnPlanar =
+        shape == ElementShape::Planar && energies::energySupportsShape(m.kind, ElementShape::Cloth);
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: energy '%s' is not defined for %s elements%s",
+            optionName(prefix, "-energy").c_str(), ename, energies::shapeName(shape),
+            clothOnPlanar ? " (a cloth energy: it needs the triangle mesh in 3D, -dm_plex_gmsh_spacedim 3, without -uv_map)"
+                          : "");
+  }
 
   // Moduli.
   if (cloth) {

@@ -117,7 +117,8 @@ PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh) {
   if (partitioner != "metis" && partitioner != "ptscotch")
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -partitioner: '%s' is not metis|ptscotch",
             partitioner.c_str());
-  PetscCall(validateGmshFile(comm, mesh->filename));
+  GmshFacts facts;
+  PetscCall(validateGmshFile(comm, mesh->filename, &facts));
   PetscCall(readPhysicalNames(comm, mesh->filename, &mesh->physicalNames));
 
   // Without this PETSc 3.18 drops gmsh point groups (pinned vertex sets) instead of labelling them.
@@ -128,6 +129,17 @@ PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh) {
   PetscCall(DMPlexCreateFromFile(comm, mesh->filename.c_str(), "aries", PETSC_TRUE, &serial));
   PetscCall(DMGetDimension(serial, &mesh->topoDim));
   PetscCall(DMGetCoordinateDim(serial, &mesh->spaceDim));
+  // PETSc reads a triangle mesh in 2D unless told otherwise and silently drops z: a curved surface would run flat.
+  PetscBool spaceDimSet = PETSC_FALSE;
+  PetscCall(PetscOptionsHasName(nullptr, nullptr, "-dm_plex_gmsh_spacedim", &spaceDimSet));
+  if (mesh->topoDim == 2 && mesh->spaceDim == 2 && !spaceDimSet && facts.coordinatesKnown &&
+      facts.zRange > 1e-12 * facts.extent) {
+    PetscCall(DMDestroy(&serial));
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+            "mesh '%s' is a triangle surface that is not flat (z varies by %g) but would be read in 2D with z dropped: "
+            "pass -dm_plex_gmsh_spacedim 3 (cloth, -uv_map), or -dm_plex_gmsh_spacedim 2 to flatten it on purpose",
+            mesh->filename.c_str(), facts.zRange);
+  }
   PetscBool uvMap = PETSC_FALSE;
   PetscCall(optionBool(nullptr, "-uv_map", &uvMap, nullptr));
   if (uvMap && !(mesh->topoDim == 2 && mesh->spaceDim == 3))

@@ -184,7 +184,8 @@ int main(int argc, char **argv) {
     } else if (kind == 1) {
       const std::string text = fz.mutatedMesh(), path = dir + "/m.msh";
       std::ofstream(path) << text;
-      report(1, fem::validateGmshFile(PETSC_COMM_WORLD, path), text);
+      fem::GmshFacts facts;
+      report(1, fem::validateGmshFile(PETSC_COMM_WORLD, path, &facts), text);
     } else {
       int numCells = 0;
       const std::string text = fz.vectorFile(&numCells), path = dir + "/f.txt";
