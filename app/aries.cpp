@@ -32,20 +32,34 @@ bool readLater(const std::string &name) {
          name == "help";
 }
 
-PetscErrorCode strictCheck() {
+// Options given but not read (so far): a misspelled option would otherwise run silently with its default.
+PetscErrorCode unusedOptions(std::string *unused) {
   PetscInt n = 0;
   char **names = nullptr, **values = nullptr;
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsLeftGet(nullptr, &n, &names, &values));
-  std::string unused;
+  unused->clear();
   for (PetscInt i = 0; i < n; ++i)
-    if (!readLater(names[i])) unused += std::string(unused.empty() ? "" : ", ") + "-" + names[i];
+    if (!readLater(names[i])) *unused += std::string(unused->empty() ? "" : ", ") + "-" + names[i];
   PetscCall(PetscOptionsLeftRestore(nullptr, &n, &names, &values));
-  if (!unused.empty())
+  PetscFunctionReturn(0);
+}
+
+// With -strict an unused option is an error; otherwise one warning line on stderr names them all.
+PetscErrorCode checkUnusedOptions(MPI_Comm comm, PetscBool strict) {
+  std::string unused;
+  PetscFunctionBeginUser;
+  PetscCall(unusedOptions(&unused));
+  if (unused.empty()) PetscFunctionReturn(0);
+  if (strict)
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
             "-strict: unknown or unused option(s) %s (misspelled, or not used by this configuration; see "
             "docs/options.md)",
             unused.c_str());
+  PetscCall(PetscFPrintf(comm, PETSC_STDERR,
+                         "aries: warning: unknown or unused option(s) %s (misspelled, or not used by this "
+                         "configuration; see docs/options.md; -strict makes this an error)\n",
+                         unused.c_str()));
   PetscFunctionReturn(0);
 }
 
@@ -88,7 +102,7 @@ PetscErrorCode run(int *exitCode) {
                           (int)st.step, st.time, st.step == simOpts.steps ? ": already at the last step, nothing to do" : ""));
   }
   // Every option is read by now except the output's own, which were read first: check before any file is written.
-  if (strict) PetscCall(strictCheck());
+  PetscCall(checkUnusedOptions(comm, strict));
   io::RunOutput output;
   PetscCall(output.setup(outOpts, ckOpts, *disc, resumeStep));
   PetscCall(PetscLogStagePop());
@@ -119,7 +133,7 @@ PetscErrorCode run(int *exitCode) {
                           (int)summary.stepsDone, summary.lastReason.c_str()));
     *exitCode = 3;
   }
-  if (strict) PetscCall(strictCheck());
+  if (strict) PetscCall(checkUnusedOptions(comm, strict));
   PetscFunctionReturn(0);
 }
 

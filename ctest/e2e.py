@@ -654,7 +654,28 @@ def case_active_ranks_agree():
             fail("%s: 1 and 2 ranks disagree by %.3e L" % (scene, diff))
 
 
+def case_unused_option_warning():
+    """A misspelled option (-enrgy) does not pass silently: the run goes on with the defaults and stderr carries exactly
+    one line, a warning naming the option; -strict turns it into an error (exit 1)."""
+    tag = "unused_np%d" % ARGS.ranks
+    cmd = aries_cmd(ARGS.aries, ARGS.ranks, ["-dm_plex_filename", mesh("bunny"), "-enrgy", "iarap", "-steps", "1",
+                                             "-output", out_base(tag)])
+    print("$ " + " ".join(cmd), flush=True)
+    p = subprocess.run(cmd, capture_output=True, text=True, env=mpi_env(), cwd=ARGS.work, timeout=300)
+    err = [l for l in p.stderr.splitlines() if l.strip()]
+    print("exit %d; stderr:\n%s" % (p.returncode, "\n".join(err)))
+    if p.returncode != 0:
+        fail("exit code %d, expected 0 (a warning, not an error)" % p.returncode)
+    if len(err) != 1 or not err[0].startswith("aries: warning: ") or "-enrgy" not in err[0]:
+        fail("expected one 'aries: warning:' line on stderr naming -enrgy")
+    if not os.path.exists(out_base(tag) + ".xmf"):
+        fail("the run did not write its output")
+    run(["-dm_plex_filename", mesh("bunny"), "-enrgy", "iarap", "-steps", "1", "-strict"], expect_code=1,
+        tag=tag + "_strict")
+
+
 CASES = {
+    "unused_option_warning": case_unused_option_warning,
     "shape_target": case_shape_target,
     "shape_keyframes": case_shape_keyframes,
     "caricature": case_caricature,
