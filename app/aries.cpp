@@ -6,6 +6,7 @@
 #include "fem/errors.hpp"
 #include "fem/options.hpp"
 #include "io/run_output.hpp"
+#include "io/version.hpp"
 #include "solver/simulation.hpp"
 
 #include <petscsys.h>
@@ -68,9 +69,11 @@ PetscErrorCode run(int *exitCode) {
   PetscLogStage setupStage;
   PetscBool strict = PETSC_FALSE, help = PETSC_FALSE;
   PetscFunctionBeginUser;
+  PetscBool showVersion = PETSC_FALSE;
   PetscCall(PetscOptionsHasName(nullptr, nullptr, "-help", &help));
-  if (help) {
-    PetscCall(PetscPrintf(comm, "%s", kHelp));
+  PetscCall(PetscOptionsHasName(nullptr, nullptr, "-version", &showVersion));
+  if (help || showVersion) {  // PETSc has printed its own help / version text by now
+    PetscCall(PetscPrintf(comm, "aries %s (git %s)\n%s", io::version(), io::gitCommit(), help ? kHelp : ""));
     PetscFunctionReturn(0);
   }
   PetscCall(fem::optionBool(nullptr, "-strict", &strict, nullptr));
@@ -110,6 +113,7 @@ PetscErrorCode run(int *exitCode) {
   PetscMPIInt size;
   PetscCallMPI(MPI_Comm_size(comm, &size));
   const auto &m = disc->material(0);
+  PetscCall(PetscPrintf(comm, "aries %s (git %s)\n", io::version(), io::gitCommit()));
   PetscCall(PetscPrintf(comm, "aries: %s, %d cells, %d vertices (%d Dirichlet), %d ranks; energy %s (singularity %s); "
                               "%s, %d steps, dt %g; L = %.6g\n",
                         mesh.filename.c_str(), (int)mesh.numCellsGlobal, (int)mesh.numVerticesGlobal,

@@ -187,7 +187,7 @@ class Run:
         self.rows = []
         if os.path.exists(stats):
             with open(stats) as fh:
-                self.rows = list(csv.DictReader(fh))
+                self.rows = list(csv.DictReader(l for l in fh if not l.startswith("#")))
 
     def _report(self, how):
         print("  [%s]%s rc=%s%s wall=%.1fs steps=%d %s" % (
@@ -647,7 +647,7 @@ def newton_history(r):
     if not os.path.exists(path):
         return []
     with open(path) as fh:
-        return list(csv.DictReader(fh))
+        return list(csv.DictReader(l for l in fh if not l.startswith("#")))
 
 
 def section_newton(cfg):

@@ -132,7 +132,7 @@ def run_scene(a, env, name, opts, extra, msh, total_steps):
     summary = [l for l in (p.stdout + p.stderr).splitlines() if l.startswith("aries:")]
     print("\n".join(summary[-3:]), flush=True)
     with open(stats) as fh:
-        return list(csv.DictReader(fh)), base
+        return list(csv.DictReader(l for l in fh if not l.startswith("#"))), base
 
 
 CONVERGED = ("newton_step", "converged_initial", "step_bound", "energy_roundoff")

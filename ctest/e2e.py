@@ -674,7 +674,31 @@ def case_unused_option_warning():
         tag=tag + "_strict")
 
 
+def case_version():
+    """-version prints the aries version and git commit (exit 0); the same pair is in every output .h5 file (root
+    attributes aries_version / aries_commit) and in the first line of the stats CSV."""
+    log, _ = run(["-version"], tag="version")
+    m = re.search(r"^aries (\d+\.\d+\.\d+) \(git ([0-9a-f]{7,}(-dirty)?|unknown)\)$", log, re.M)
+    if not m:
+        fail("-version did not print 'aries X.Y.Z (git COMMIT)'")
+    version, commit = m.group(1), m.group(2)
+    tag = "version_run"
+    run(["-dm_plex_filename", mesh("bunny"), "-steps", "1", "-output", out_base(tag), "-stats", out_base(tag) + ".csv"],
+        tag=tag)
+    with open(out_base(tag) + ".csv") as fh:
+        first = fh.readline().strip()
+    if first != "# aries %s (git %s)" % (version, commit):
+        fail("stats header line %r does not name aries %s (git %s)" % (first, version, commit))
+    for path in (out_base(tag) + ".h5", step_file(out_base(tag), 1)):
+        with h5py.File(path, "r") as h:
+            got = (h.attrs["aries_version"].decode(), h.attrs["aries_commit"].decode())
+        if got != (version, commit):
+            fail("%s carries %s, expected %s" % (path, got, (version, commit)))
+    print("aries %s (git %s) in -version, the stats header and the output files" % (version, commit))
+
+
 CASES = {
+    "version": case_version,
     "unused_option_warning": case_unused_option_warning,
     "shape_target": case_shape_target,
     "shape_keyframes": case_shape_keyframes,

@@ -48,4 +48,4 @@ def step_positions(base, step):
 
 def csv_rows(path):
     with open(path) as fh:
-        return list(csv.DictReader(fh))
+        return list(csv.DictReader(l for l in fh if not l.startswith("#")))

@@ -3,6 +3,7 @@
 #include "fem/errors.hpp"
 #include "fem/options.hpp"
 #include "io/files.hpp"
+#include "io/h5_attributes.hpp"
 
 #include <hdf5.h>
 
@@ -105,16 +106,7 @@ PetscErrorCode writeCheckpoint(const solver::Simulation &sim, const std::string 
          writeAttr(f, "step", H5T_NATIVE_LLONG, step) && writeAttr(f, "time", H5T_NATIVE_DOUBLE, time) &&
          writeAttr(f, "load", H5T_NATIVE_DOUBLE, load) && writeAttr(f, "num_vertices", H5T_NATIVE_LLONG, nvv) &&
          writeAttr(f, "num_cells", H5T_NATIVE_LLONG, nc);
-    if (ok) {
-      hid_t strType = H5Tcopy(H5T_C_S1);
-      H5Tset_size(strType, std::string(kFormat).size() + 1);
-      hid_t space = H5Screate(H5S_SCALAR);
-      hid_t a = H5Acreate2(f, "format", strType, space, H5P_DEFAULT, H5P_DEFAULT);
-      ok = a >= 0 && H5Awrite(a, strType, kFormat) >= 0;
-      if (a >= 0) H5Aclose(a);
-      H5Sclose(space);
-      H5Tclose(strType);
-    }
+    ok = ok && writeStringAttribute(f, "format", kFormat) && writeVersionAttributes(f);
     if (f >= 0) ok = H5Fclose(f) >= 0 && ok;
     if (!ok || std::rename(tmp.c_str(), path.c_str()) != 0) err = "cannot write checkpoint '" + path + "'";
   }

@@ -2,6 +2,7 @@
 
 #include "fem/errors.hpp"
 #include "io/files.hpp"
+#include "io/version.hpp"
 
 #include <cctype>
 #include <fstream>
@@ -31,7 +32,7 @@ PetscErrorCode StatsWriter::open(MPI_Comm comm, const std::string &path, PetscIn
     const std::string tmp = path + ".tmp";
     std::FILE *f = makeParentDirectory(path) ? std::fopen(tmp.c_str(), "w") : nullptr;
     if (f) {
-      std::fprintf(f, "%s\n", header);
+      std::fprintf(f, "# aries %s (git %s)\n%s\n", version(), gitCommit(), header);
       for (const auto &l : keep) std::fprintf(f, "%s\n", l.c_str());
       bad = std::fclose(f) != 0 || std::rename(tmp.c_str(), path.c_str()) != 0;
       file_ = bad ? nullptr : std::fopen(path.c_str(), "a");

@@ -2,6 +2,7 @@
 
 #include "fem/errors.hpp"
 #include "io/files.hpp"
+#include "io/h5_attributes.hpp"
 
 #include <hdf5.h>
 
@@ -68,7 +69,7 @@ PetscErrorCode XdmfWriter::open(MPI_Comm comm, const std::string &base, const st
       const std::string tmp = base + ".h5.tmp";
       hid_t f = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
       bool ok = f >= 0 && writeIntDataset(f, "/mesh/topology", cells, numCells_, verticesPerCell) &&
-                writeDataset(f, "/mesh/rest", rest.data(), numVertices_, 3);
+                writeDataset(f, "/mesh/rest", rest.data(), numVertices_, 3) && writeVersionAttributes(f);
       if (f >= 0) ok = H5Fclose(f) >= 0 && ok;
       if (!ok || std::rename(tmp.c_str(), (base + ".h5").c_str()) != 0)
         err = "cannot write '" + base + ".h5' (-output)";
@@ -112,7 +113,7 @@ PetscErrorCode XdmfWriter::writeStep(PetscInt step, double time, const std::vect
     for (size_t i = 0; i < positions.size(); ++i) disp[i] = positions[i] - rest_[i];
     hid_t f = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
     bool ok = f >= 0 && writeDataset(f, "/positions", positions.data(), numVertices_, 3) &&
-              writeDataset(f, "/displacement", disp.data(), numVertices_, 3);
+              writeDataset(f, "/displacement", disp.data(), numVertices_, 3) && writeVersionAttributes(f);
     if (ok) {  // the step's time, for restarts (the index is rebuilt from the step files)
       hid_t space = H5Screate(H5S_SCALAR);
       hid_t a = H5Acreate2(f, "time", H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT);
