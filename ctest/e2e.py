@@ -697,7 +697,26 @@ def case_version():
     print("aries %s (git %s) in -version, the stats header and the output files" % (version, commit))
 
 
+def case_output_times():
+    """Output times are start + k dt, not a running sum: three steps of dt = 0.1 are at 0.1, 0.2, 0.3 exactly (k * 0.1
+    in double, 0.30000000000000004 for k = 3) in the step files, and the XDMF index reads 0.1, 0.2, 0.3."""
+    tag = "times"
+    run(["-dm_plex_filename", mesh("bunny"), "-steps", "3", "-dt", "0.1", "-integrator", "beuler",
+         "-output", out_base(tag)], tag=tag)
+    with open(out_base(tag) + ".xmf") as fh:
+        shown = re.findall(r'<Time Value="([^"]*)"', fh.read())
+    print("XDMF times:", shown)
+    if shown != ["0", "0.1", "0.2", "0.3"]:
+        fail("XDMF times %s, expected 0, 0.1, 0.2, 0.3" % shown)
+    for k in (1, 2, 3):
+        with h5py.File(step_file(out_base(tag), k), "r") as h:
+            t = float(h.attrs["time"])
+        if t != k * 0.1:
+            fail("step %d is at t = %.17g, expected %.17g (k dt)" % (k, t, k * 0.1))
+
+
 CASES = {
+    "output_times": case_output_times,
     "version": case_version,
     "unused_option_warning": case_unused_option_warning,
     "shape_target": case_shape_target,

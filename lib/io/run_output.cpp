@@ -97,6 +97,19 @@ PetscErrorCode RunOutput::initial(const solver::Simulation &sim) {
   PetscFunctionReturn(0);
 }
 
+namespace {
+
+// "42.0s", "3m07s", "2h05m": a duration for the progress line.
+std::string clockTime(double seconds) {
+  char buf[32];
+  if (seconds < 60.0) std::snprintf(buf, sizeof buf, "%.1fs", seconds);
+  else if (seconds < 3600.0) std::snprintf(buf, sizeof buf, "%dm%02ds", (int)(seconds / 60), (int)seconds % 60);
+  else std::snprintf(buf, sizeof buf, "%dh%02dm", (int)(seconds / 3600), ((int)seconds % 3600) / 60);
+  return buf;
+}
+
+}  // namespace
+
 PetscErrorCode RunOutput::afterStep(const solver::Simulation &sim, const solver::StepReport &rep) {
   PetscFunctionBeginUser;
   const fem::Discretization &disc = sim.discretization();
@@ -145,10 +158,20 @@ PetscErrorCode RunOutput::afterStep(const solver::Simulation &sim, const solver:
       rep.newton.safeguardHalvings ? " (safeguard halved the step " + std::to_string(rep.newton.safeguardHalvings) + "x)" : "";
   const std::string atLimit =
       rep.newton.linearAtLimit ? " (" + std::to_string(rep.newton.linearAtLimit) + " at -ksp_max_it)" : "";
-  PetscCall(PetscPrintf(comm_, "step %d/%d  t=%g  newton %d  solves %d  cg %d%s  min_alpha %.3e  |r| %.2e  %.3f s  %s%s\n",
+  // Progress: wall time since this run's first step and the remaining steps at this run's average pace.
+  if (runStart_ < 0.0) {
+    runStart_ = MPI_Wtime() - rep.wallSeconds;
+    firstStep_ = rep.step;
+  }
+  const double elapsed = MPI_Wtime() - runStart_;
+  const double eta = elapsed / static_cast<double>(rep.step - firstStep_ + 1) * static_cast<double>(rep.steps - rep.step);
+  PetscCall(PetscPrintf(comm_,
+                        "step %d/%d  t=%g  newton %d  solves %d  cg %d%s  min_alpha %.3e  |r| %.2e  %.3f s  %s%s  "
+                        "[elapsed %s, eta %s]\n",
                         (int)rep.step, (int)rep.steps, rep.time, (int)rep.newton.newtonIterations,
                         (int)rep.newton.linearSolves, (int)rep.newton.linearIterations, atLimit.c_str(), st.minAlpha,
-                        rep.newton.residualNorm, rep.wallSeconds, rep.reason.c_str(), halved.c_str()));
+                        rep.newton.residualNorm, rep.wallSeconds, rep.reason.c_str(), halved.c_str(),
+                        clockTime(elapsed).c_str(), clockTime(eta).c_str()));
   if (rep.step % opts_.outputEvery == 0 || rep.stopping) PetscCall(writeState(sim, rep.step, rep.time));
   if (checkpoint_.every > 0 && (rep.step % checkpoint_.every == 0 || rep.stopping)) {
     PetscCall(PetscLogStagePush(outputStage_));

@@ -41,6 +41,8 @@ class RunOutput final : public solver::StepObserver {
   std::FILE *reactions_ = nullptr;
   std::FILE *history_ = nullptr;
   PetscLogStage outputStage_ = -1;
+  double runStart_ = -1.0;  // wall clock at the start of this run's first step (progress: elapsed time and ETA)
+  PetscInt firstStep_ = 0;
 };
 
 }  // namespace aries::io

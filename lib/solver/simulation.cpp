@@ -343,13 +343,16 @@ PetscErrorCode Simulation::run(StepObserver *observer, RunSummary *summary) {
   if (observer && completedSteps_ == 0) PetscCall(observer->initial(*this));
   double totalNewton = 0, totalLinear = 0, totalSeconds = 0;
   const PetscInt first = completedSteps_ + 1;
+  // Step times from the run's start (0, or the restart point) as start + k dt, not a running sum: after 50 steps of
+  // 1e-2 the time is 0.5, not 0.49999999999999994.
+  const double startTime = time_;
   for (PetscInt step = first; step <= steps; ++step) {
     const double t0 = MPI_Wtime();
     const double loadTarget = std::min(1.0, static_cast<double>(step) / static_cast<double>(ramp));
     StepReport rep;
     rep.step = step;
     rep.steps = steps;
-    rep.time = time_ + opts_.dt;
+    rep.time = startTime + static_cast<double>(step - first + 1) * opts_.dt;
     PetscCall(advance(opts_.dt, loadTarget, 0, &rep.newton, &rep.ok, &rep.reason));
     time_ = rep.time;
     completedSteps_ = step;
