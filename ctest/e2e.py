@@ -715,7 +715,46 @@ def case_output_times():
             fail("step %d is at t = %.17g, expected %.17g (k dt)" % (k, t, k * 0.1))
 
 
+def case_meshio_xdmf():
+    """The XDMF output read by a third-party client (meshio's TimeSeriesReader): one mesh, the rest geometry and
+    topology of the input .msh file (read by meshio too), then per step a displacement whose sum with the rest
+    geometry is the positions aries computed, the cell fields, and the step times k dt."""
+    import meshio
+    tag = "meshio_np%d" % ARGS.ranks
+    run(["-options_file", os.path.join(ARGS.root, "options", "bunny_inside_out.yml"), "-dm_plex_filename",
+         mesh("bunny"), "-steps", "3", "-output", out_base(tag), "-output_every", "1", "-stats", out_base(tag) + ".csv"],
+        tag=tag)
+    msh = meshio.read(mesh("bunny"))
+    msh_tets = [c.data for c in msh.cells if c.type == "tetra"][0]
+    with meshio.xdmf.TimeSeriesReader(out_base(tag) + ".xmf") as r:
+        points, cells = r.read_points_cells()
+        if len(cells) != 1 or cells[0].type != "tetra":
+            fail("expected one tetra cell block, got %s" % [c.type for c in cells])
+        if points.shape != msh.points.shape or np.abs(points - msh.points).max() > 1e-12:
+            fail("the XDMF geometry is not the rest shape of the input mesh")
+        if not (np.sort(cells[0].data, 1) == np.sort(msh_tets, 1)).all():
+            fail("the XDMF topology is not the input mesh's tetrahedra")
+        if r.num_steps != 4:
+            fail("expected 4 time steps (initial + 3), got %d" % r.num_steps)
+        worst = 0.0
+        for k in range(r.num_steps):
+            t, point_data, cell_data = r.read_data(k)
+            if abs(t - k * 0.01) > 1e-15:
+                fail("step %d at t = %r, expected %g" % (k, t, k * 0.01))
+            for name in ("alpha", "energy_density"):
+                if name not in cell_data or cell_data[name][0].shape[0] != len(msh_tets):
+                    fail("cell field %s missing or of the wrong size at step %d" % (name, k))
+            with h5py.File(step_file(out_base(tag), k), "r") as h:
+                x = h["/positions"][:]
+            worst = max(worst, np.abs(points + point_data["displacement"] - x).max())
+    L = np.linalg.norm(points.max(0) - points.min(0))
+    print("meshio: rest geometry and topology match the .msh; max |rest + displacement - positions| / L = %.2e" % (worst / L))
+    if not worst <= 1e-12 * L:
+        fail("rest + displacement differs from the positions by %.3e" % worst)
+
+
 CASES = {
+    "meshio_xdmf": case_meshio_xdmf,
     "output_times": case_output_times,
     "version": case_version,
     "unused_option_warning": case_unused_option_warning,

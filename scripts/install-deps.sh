@@ -8,6 +8,7 @@ packages=(
   libgtest-dev libbenchmark-dev               # tests and kernel benchmarks
   gmsh tetgen                                 # mesh generation for the scenes
   python3-h5py python3-numpy python3-matplotlib  # XDMF generation, PNG snapshots, charts
+  python3-meshio                              # the output test reads the XDMF as a third-party client
   libcgal-demo                                # closed/disk surfaces (armadillo, bunny-like, UV disks)
 )
 missing=()

@@ -26,6 +26,6 @@ mkdir -p docs/images
 /usr/bin/python3 scripts/render_png.py "$OUT" docs/images/bunny_inside_out_after.png \
   --title "inside-out bunny: t = 2 s (200 steps of dt = 1e-2)"
 /usr/bin/python3 scripts/shape_error.py "$OUT" --rigid
-echo "XDMF (open in ParaView): $OUT.xmf"
+echo "XDMF (open in ParaView, then Warp By Vector with displacement): $OUT.xmf"
 echo "stats: $ROOT/out/main/stats.csv"
 echo "snapshots: docs/images/bunny_inside_out_before.png docs/images/bunny_inside_out_after.png"

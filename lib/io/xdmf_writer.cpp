@@ -151,9 +151,11 @@ PetscErrorCode XdmfWriter::writeXmf() {
       << "      <DataItem Dimensions=\"" << numCells_ << " " << verticesPerCell_
       << "\" NumberType=\"Int\" Precision=\"8\" Format=\"HDF\">" << meshFile_ << ":/mesh/topology</DataItem>\n"
       << "    </Topology>\n"
+      // Geometry = the rest shape, plus the step's displacement: WarpByVector (scale 1) shows the deformed body and
+      // meshio's TimeSeriesReader gets one mesh and per-step data (the positions stay in the step file).
       << "    <Geometry GeometryType=\"XYZ\">\n"
       << "      <DataItem Dimensions=\"" << numVertices_ << " 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">"
-      << s.file << ":/positions</DataItem>\n    </Geometry>\n"
+      << meshFile_ << ":/mesh/rest</DataItem>\n    </Geometry>\n"
       << "    <Attribute Name=\"displacement\" AttributeType=\"Vector\" Center=\"Node\">\n"
       << "      <DataItem Dimensions=\"" << numVertices_ << " 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">"
       << s.file << ":/displacement</DataItem>\n    </Attribute>\n";
