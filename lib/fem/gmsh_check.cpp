@@ -103,20 +103,20 @@ bool checkElementType(Reader &r, int type) {
   return r.fail(o.str());
 }
 
-// What the parsers record: node tags (so elements can be checked against them) and the coordinate range.
+// What the parsers record: node tags (so elements can be checked against them) and the nodes' bounding box.
 struct NodeData {
   std::unordered_set<long> tags;
-  GmshFacts facts;
+  double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
   void addPoint(double x, double y, double z) {
     const double p[3] = {x, y, z};
     for (int d = 0; d < 3; ++d) {
       lo[d] = std::min(lo[d], p[d]);
       hi[d] = std::max(hi[d], p[d]);
     }
-    facts.zRange = hi[2] - lo[2];
-    facts.extent = std::max({facts.extent, hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
   }
-  double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  GmshFacts facts() const {
+    return GmshFacts{true, hi[2] - lo[2], std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]})};
+  }
 };
 
 // One parser per section and format version.
@@ -261,10 +261,7 @@ std::string validateFile(const std::string &file, GmshFacts *facts) {
   NodeData nodes;
   const bool ok = version < 3.0 ? validateSections(r, nodes2, elements2, &nodes)
                                 : validateSections(r, nodes4, elements4, &nodes);
-  if (ok) {
-    *facts = nodes.facts;
-    facts->coordinatesKnown = true;
-  }
+  if (ok) *facts = nodes.facts();
   return ok ? std::string() : r.error();
 }
 
