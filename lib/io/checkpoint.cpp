@@ -24,25 +24,6 @@ bool writeMatrix(hid_t f, const char *name, const std::vector<double> &v, hsize_
   return ok;
 }
 
-template <class T>
-bool writeAttr(hid_t f, const char *name, hid_t type, const T &value) {
-  hid_t space = H5Screate(H5S_SCALAR);
-  hid_t a = H5Acreate2(f, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
-  const bool ok = a >= 0 && H5Awrite(a, type, &value) >= 0;
-  if (a >= 0) H5Aclose(a);
-  H5Sclose(space);
-  return ok;
-}
-
-template <class T>
-bool readAttr(hid_t f, const char *name, hid_t type, T *value) {
-  if (H5Aexists(f, name) <= 0) return false;
-  hid_t a = H5Aopen(f, name, H5P_DEFAULT);
-  const bool ok = a >= 0 && H5Aread(a, type, value) >= 0;
-  if (a >= 0) H5Aclose(a);
-  return ok;
-}
-
 bool readMatrix(hid_t f, const char *name, hsize_t rows, std::vector<double> *v) {
   if (H5Lexists(f, name, H5P_DEFAULT) <= 0) return false;
   hid_t d = H5Dopen2(f, name, H5P_DEFAULT);
@@ -103,9 +84,11 @@ PetscErrorCode writeCheckpoint(const solver::Simulation &sim, const std::string 
     bool ok = makeParentDirectory(path);
     hid_t f = ok ? H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT) : -1;
     ok = f >= 0 && writeMatrix(f, "/positions", positions, nv) && writeMatrix(f, "/velocities", velocities, nv) &&
-         writeAttr(f, "step", H5T_NATIVE_LLONG, step) && writeAttr(f, "time", H5T_NATIVE_DOUBLE, time) &&
-         writeAttr(f, "load", H5T_NATIVE_DOUBLE, load) && writeAttr(f, "num_vertices", H5T_NATIVE_LLONG, nvv) &&
-         writeAttr(f, "num_cells", H5T_NATIVE_LLONG, nc);
+         writeScalarAttribute(f, "step", H5T_NATIVE_LLONG, step) &&
+         writeScalarAttribute(f, "time", H5T_NATIVE_DOUBLE, time) &&
+         writeScalarAttribute(f, "load", H5T_NATIVE_DOUBLE, load) &&
+         writeScalarAttribute(f, "num_vertices", H5T_NATIVE_LLONG, nvv) &&
+         writeScalarAttribute(f, "num_cells", H5T_NATIVE_LLONG, nc);
     ok = ok && writeStringAttribute(f, "format", kFormat) && writeVersionAttributes(f);
     if (f >= 0) ok = H5Fclose(f) >= 0 && ok;
     if (!ok || std::rename(tmp.c_str(), path.c_str()) != 0) err = "cannot write checkpoint '" + path + "'";
@@ -143,9 +126,11 @@ PetscErrorCode readCheckpoint(const fem::Mesh &mesh, const std::string &path, Ch
       }
       if (!ok || std::string(fmt) != kFormat) {
         err = "'" + path + "' is not an aries checkpoint (-restart)";
-      } else if (!readAttr(f, "step", H5T_NATIVE_LLONG, &step) || !readAttr(f, "time", H5T_NATIVE_DOUBLE, &scalars[0]) ||
-                 !readAttr(f, "load", H5T_NATIVE_DOUBLE, &scalars[1]) ||
-                 !readAttr(f, "num_vertices", H5T_NATIVE_LLONG, &nv) || !readAttr(f, "num_cells", H5T_NATIVE_LLONG, &nc)) {
+      } else if (!readScalarAttribute(f, "step", H5T_NATIVE_LLONG, &step) ||
+                 !readScalarAttribute(f, "time", H5T_NATIVE_DOUBLE, &scalars[0]) ||
+                 !readScalarAttribute(f, "load", H5T_NATIVE_DOUBLE, &scalars[1]) ||
+                 !readScalarAttribute(f, "num_vertices", H5T_NATIVE_LLONG, &nv) ||
+                 !readScalarAttribute(f, "num_cells", H5T_NATIVE_LLONG, &nc)) {
         err = "checkpoint '" + path + "' is incomplete (missing attributes)";
       } else if (nv != mesh.numVerticesGlobal || nc != mesh.numCellsGlobal) {
         err = "checkpoint '" + path + "' was written for a mesh with " + std::to_string(nv) + " vertices and " +

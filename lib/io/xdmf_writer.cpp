@@ -85,11 +85,7 @@ PetscErrorCode XdmfWriter::open(MPI_Comm comm, const std::string &base, const st
       double time = 0.0;
       hid_t f = H5Fopen(p.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
       if (f >= 0) {
-        if (H5Aexists(f, "time") > 0) {
-          hid_t a = H5Aopen(f, "time", H5P_DEFAULT);
-          H5Aread(a, H5T_NATIVE_DOUBLE, &time);
-          H5Aclose(a);
-        }
+        readScalarAttribute(f, "time", H5T_NATIVE_DOUBLE, &time);
         H5Fclose(f);
         steps_.push_back({k, time, fname.str()});
       }
@@ -114,13 +110,8 @@ PetscErrorCode XdmfWriter::writeStep(PetscInt step, double time, const std::vect
     hid_t f = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
     bool ok = f >= 0 && writeDataset(f, "/positions", positions.data(), numVertices_, 3) &&
               writeDataset(f, "/displacement", disp.data(), numVertices_, 3) && writeVersionAttributes(f);
-    if (ok) {  // the step's time, for restarts (the index is rebuilt from the step files)
-      hid_t space = H5Screate(H5S_SCALAR);
-      hid_t a = H5Acreate2(f, "time", H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT);
-      ok = a >= 0 && H5Awrite(a, H5T_NATIVE_DOUBLE, &time) >= 0;
-      if (a >= 0) H5Aclose(a);
-      H5Sclose(space);
-    }
+    // the step's time, for restarts (the index is rebuilt from the step files)
+    ok = ok && writeScalarAttribute(f, "time", H5T_NATIVE_DOUBLE, time);
     cellFieldLayout_.clear();
     for (const auto &cf : cellFields) {
       ok = ok && writeDataset(f, ("/cell/" + cf.name).c_str(), cf.values.data(), numCells_, cf.components);
