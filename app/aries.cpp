@@ -82,7 +82,7 @@ PetscErrorCode run(int *exitCode) {
   solver::SimulationOptions simOpts;
   PetscCall(solver::readSimulationOptions(&simOpts));
   io::OutputOptions outOpts;
-  PetscCall(io::readOutputOptions(&outOpts));
+  PetscCall(io::readOutputOptions(simOpts.integrator == solver::Integrator::BackwardEuler, &outOpts));
   io::CheckpointOptions ckOpts;
   PetscCall(io::readCheckpointOptions(outOpts.output, &ckOpts));
   fem::Mesh mesh;

@@ -146,6 +146,10 @@ def case_defs():
                                               "-energy", "bw46s"],
                                      r"option -energy: energy 'bw46s' is not defined for planar triangle .*"
                                      r"-dm_plex_gmsh_spacedim 3")
+    d["output_field_unknown"] = (lambda: ["-dm_plex_filename", good_mesh(), "-output_fields", "alpha,stress"],
+                                 r"option -output_fields: 'stress' is not a field \(alpha\|.*\|marker, or all\)")
+    d["output_velocity_static"] = (lambda: ["-dm_plex_filename", good_mesh(), "-output_fields", "velocity"],
+                                   r"option -output_fields: 'velocity' needs -integrator beuler")
     return d
 
 

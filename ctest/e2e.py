@@ -10,6 +10,7 @@ Needs Debian's python3-h5py and numpy (run with /usr/bin/python3).
 """
 import argparse
 import glob
+import json
 import os
 import re
 import subprocess
@@ -753,7 +754,70 @@ def case_meshio_xdmf():
         fail("rest + displacement differs from the positions by %.3e" % worst)
 
 
+def case_output_fields():
+    """The mechanics output fields (-output_fields) against the material point tool: a cube (nu = 0) with its bottom
+    face pinned and its top face moved up 20% is a uniform uniaxial stretch F = diag(1, 1, 1.2), so every cell's PK1
+    stress is aries-matpoint's P at that F, its Cauchy stress P F^T / J, von Mises |sigma_zz|, J 1.2, Green-Lagrange
+    diag(0, 0, 0.22), principal stretches (1.2, 1, 1); the reactions on the top face sum to P_zz times its area (1)
+    and those on the bottom to minus that; the marker is the box index. All read through meshio's XDMF reader. Then a
+    free fall under gravity (backward Euler, no support): every vertex's velocity is k dt g after k steps."""
+    import meshio
+    s = 1.2
+    tag = "fields_static_np%d" % ARGS.ranks
+    run(["-dm_plex_filename", mesh("cube"), "-energy", "iarap", "-E", "1e4", "-nu", "0", "-integrator", "static",
+         "-steps", "2", "-bc_box", "-1,2,-1,2,-1,0.01,-1,2,-1,2,0.99,2", "-bc_box_2_translate", "0,0,%g" % (s - 1),
+         "-output", out_base(tag), "-output_fields", "all"], tag=tag)
+    mp = subprocess.run([os.path.join(os.path.dirname(ARGS.aries), "aries-matpoint"), "-energy", "iarap", "-E", "1e4",
+                         "-nu", "0", "-F", "1,0,0,0,1,0,0,0,%r" % s, "-json"], capture_output=True, text=True, check=True)
+    P = np.array(json.loads(mp.stdout)["pk1"]).reshape(3, 3)
+    F = np.diag([1.0, 1.0, s])
+    sigma = P @ F.T / s
+    with meshio.xdmf.TimeSeriesReader(out_base(tag) + ".xmf") as r:
+        points, cells = r.read_points_cells()
+        t, point_data, cell_data = r.read_data(r.num_steps - 1)
+    c = {k: v[0] for k, v in cell_data.items()}
+    expected = {"pk1_stress": P.ravel(), "cauchy_stress": sigma.ravel(), "deformation_gradient": F.ravel(),
+                "green_strain": (0.5 * (F.T @ F - np.eye(3))).ravel(), "principal_stretches": np.array([s, 1.0, 1.0]),
+                "J": np.array([s]), "von_mises": np.array([abs(sigma[2, 2])]), "region": np.array([0.0])}
+    scale = np.abs(P).max()
+    for name, want in sorted(expected.items()):
+        if name not in c:
+            fail("cell field %s missing (fields: %s)" % (name, sorted(c)))
+        got = c[name].reshape(len(c[name]), -1)
+        tol = 1e-8 * (scale if name in ("pk1_stress", "cauchy_stress", "von_mises") else 1.0)
+        err = np.abs(got - want[None, :]).max()
+        print("%-21s max |cell - expected| = %.2e (tolerance %.1e)" % (name, err, tol))
+        if not err <= tol:
+            fail("%s differs from the uniform uniaxial stretch by %.3e" % (name, err))
+    marker, reaction = point_data["marker"].ravel(), point_data["reaction"]
+    top, bottom = reaction[marker == 2].sum(0), reaction[marker == 1].sum(0)
+    print("reaction: top %s, bottom %s; P_zz x area = %.6g" % (top, bottom, P[2, 2]))
+    if not (np.abs(points[marker == 2, 2] - 1.0).max() < 1e-12 and np.abs(points[marker == 1, 2]).max() < 1e-12):
+        fail("the marker does not match the pinned boxes")
+    if np.abs(reaction[marker == 0]).max() != 0.0:
+        fail("a free vertex has a nonzero reaction")
+    if not (abs(top[2] - P[2, 2]) <= 1e-6 * scale and abs(bottom[2] + P[2, 2]) <= 1e-6 * scale
+            and np.abs(top[:2]).max() <= 1e-6 * scale):
+        fail("reactions %s / %s, expected +-%g along z" % (top, bottom, P[2, 2]))
+    if "velocity" in point_data:
+        fail("a static run wrote a velocity field")
+    # free fall: velocities
+    tag = "fields_fall_np%d" % ARGS.ranks
+    run(["-dm_plex_filename", mesh("cube"), "-energy", "iarap", "-E", "1e4", "-nu", "0.3", "-integrator", "beuler",
+         "-dt", "0.01", "-steps", "3", "-gravity", "0,0,-9.81", "-output", out_base(tag), "-output_fields",
+         "velocity,J"], tag=tag)
+    with h5py.File(step_file(out_base(tag), 3), "r") as h:
+        v = h["/vertex/velocity"][:]
+        if sorted(h["/cell"].keys()) != ["J"]:
+            fail("-output_fields velocity,J wrote cell fields %s" % sorted(h["/cell"].keys()))
+    err = np.abs(v - np.array([0.0, 0.0, -9.81 * 0.03])[None, :]).max()
+    print("free fall: max |v - 3 dt g| = %.2e" % err)
+    if not err <= 1e-10:
+        fail("velocity after 3 steps of free fall off by %.3e" % err)
+
+
 CASES = {
+    "output_fields": case_output_fields,
     "meshio_xdmf": case_meshio_xdmf,
     "output_times": case_output_times,
     "version": case_version,

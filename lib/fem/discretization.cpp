@@ -28,7 +28,7 @@ namespace {
 
 // Gathers (natural id, values) pairs onto rank 0 into a dense array of `total * comps` values.
 PetscErrorCode gatherNatural(MPI_Comm comm, const std::vector<PetscInt> &ids, const std::vector<double> &vals,
-                             int comps, PetscInt total, std::vector<double> *out) {
+                             int comps, PetscInt total, std::vector<double> *out, bool sum = false) {
   PetscMPIInt rank;
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
@@ -42,8 +42,10 @@ PetscErrorCode gatherNatural(MPI_Comm comm, const std::vector<PetscInt> &ids, co
   out->clear();
   if (rank == 0) {
     out->assign(static_cast<size_t>(total) * comps, 0.0);
-    for (size_t e = 0; e < all.size(); e += comps + 1)
-      std::copy_n(&all[e + 1], comps, &(*out)[static_cast<size_t>(all[e]) * comps]);
+    for (size_t e = 0; e < all.size(); e += comps + 1) {
+      double *dst = &(*out)[static_cast<size_t>(all[e]) * comps];
+      for (int k = 0; k < comps; ++k) dst[k] = sum ? dst[k] + all[e + 1 + k] : all[e + 1 + k];
+    }
   }
   PetscFunctionReturn(0);
 }
@@ -205,6 +207,10 @@ class DiscretizationT final : public Discretization {
       const std::function<void(PetscInt, PetscInt, PetscInt, const Eigen::Vector3d &)> &fn) const override;
   PetscErrorCode maxDisplacement(Vec xLocal, PetscReal *value) const override;
   PetscErrorCode reactionForce(Vec xLocal, size_t set, Eigen::Vector3d *force) const override;
+  PetscErrorCode cellStressMeasures(Vec xLocal, std::vector<kernels::StressMeasures> *out) const override;
+  void cellRegions(std::vector<double> *regions) const override;
+  PetscErrorCode gatherVertexReactions(Vec xLocal, std::vector<double> *values) const override;
+  PetscErrorCode gatherVertexMarkers(std::vector<double> *values) const override;
 
  private:
   struct Cell {
@@ -1210,6 +1216,69 @@ PetscErrorCode DiscretizationT<R, C>::cellQuantities(Vec xLocal, CellQuantities 
         energies::evaluateEnergy<R, C>(materialOf(c), dataOf(c), F, kernels::Order::Value).value;
   }
   PetscCall(VecRestoreArrayRead(xLocal, &x));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::cellStressMeasures(Vec xLocal, std::vector<kernels::StressMeasures> *out) const {
+  const PetscScalar *x;
+  PetscFunctionBeginUser;
+  out->resize(cells_.size());
+  PetscCall(VecGetArrayRead(xLocal, &x));
+  for (size_t c = 0; c < cells_.size(); ++c) {
+    const Cell &cell = cells_[c];
+    EMat<3, C> Frest = EMat<3, C>::Zero();  // the cell's chart -> rest shape (orthonormal columns)
+    for (int v = 0; v < NV; ++v) Frest += verts_[cell.vertex[v]].rest * cell.W.row(v);
+    const EMat<R, C> F = deformationGradient(cell, x);
+    const auto d = energies::evaluateEnergy<R, C>(materialOf(c), dataOf(c), F, kernels::Order::Gradient);
+    (*out)[c] = kernels::stressMeasures<R, C>(F, kernels::unflatten<R, C>(d.grad), Frest);
+  }
+  PetscCall(VecRestoreArrayRead(xLocal, &x));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+void DiscretizationT<R, C>::cellRegions(std::vector<double> *regions) const {
+  regions->resize(cells_.size());
+  for (size_t c = 0; c < cells_.size(); ++c) (*regions)[c] = cells_[c].region;
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::gatherVertexReactions(Vec xLocal, std::vector<double> *values) const {
+  MPI_Comm comm;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetComm((PetscObject)mesh_->dm, &comm));
+  Vec g;
+  PetscCall(VecDuplicate(xLocal, &g));
+  PetscCall(gradient(xLocal, g));  // each rank: its own cells' share at every local vertex (summed below)
+  const PetscScalar *ga;
+  PetscCall(VecGetArrayRead(g, &ga));
+  std::vector<PetscInt> ids;
+  std::vector<double> vals;
+  for (size_t v = 0; v < verts_.size(); ++v) {
+    if (verts_[v].bcSet < 0) continue;
+    ids.push_back(mesh_->naturalVertex[v]);
+    for (int i = 0; i < 3; ++i) vals.push_back(i < R ? ga[verts_[v].loc + i] : 0.0);
+  }
+  PetscCall(VecRestoreArrayRead(g, &ga));
+  PetscCall(VecDestroy(&g));
+  PetscCall(gatherNatural(comm, ids, vals, 3, mesh_->numVerticesGlobal, values, /*sum=*/true));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::gatherVertexMarkers(std::vector<double> *values) const {
+  MPI_Comm comm;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetComm((PetscObject)mesh_->dm, &comm));
+  std::vector<PetscInt> ids;
+  std::vector<double> vals;
+  for (size_t v = 0; v < verts_.size(); ++v) {
+    if (!verts_[v].owned) continue;
+    ids.push_back(mesh_->naturalVertex[v]);
+    vals.push_back(verts_[v].bcSet + 1.0);
+  }
+  PetscCall(gatherNatural(comm, ids, vals, 1, mesh_->numVerticesGlobal, values));
   PetscFunctionReturn(0);
 }
 

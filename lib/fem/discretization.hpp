@@ -12,6 +12,7 @@
 #include "fem/material_options.hpp"
 #include "fem/mesh.hpp"
 #include "kernels/psd_projection.hpp"
+#include "kernels/stress_measures.hpp"
 
 #include <petscmat.h>
 
@@ -94,6 +95,10 @@ class Discretization {
   // -keep_orientation (in 2D alpha = s1 + s2 stays positive when a triangle flips, det F does not).
   virtual PetscErrorCode cellGuard(Vec xLocal, std::vector<double> *guard) const = 0;
   virtual PetscErrorCode cellQuantities(Vec xLocal, CellQuantities *q) const = 0;
+  // Stress and strain measures of every local cell in the mesh's 3D frame (kernels/stress_measures.hpp).
+  virtual PetscErrorCode cellStressMeasures(Vec xLocal, std::vector<kernels::StressMeasures> *out) const = 0;
+  // Region of every local cell: 0 = the global material, k = the k-th -regions entry.
+  virtual void cellRegions(std::vector<double> *regions) const = 0;
   // Top of each local cell's singular band for the safeguard: the mollifier's eps for cells evaluated with the
   // mollifier (below it their I4/I6 terms are the constant proxy, Eq. 33: nothing is singular there), 0 otherwise.
   virtual void mollifierBandTop(std::vector<double> *top) const = 0;
@@ -108,6 +113,11 @@ class Discretization {
                                          std::vector<double> *values) const = 0;
   virtual PetscErrorCode gatherTopology(std::vector<PetscInt> *cells) const = 0;  // natural vertex ids per cell
   virtual PetscErrorCode cellFibers(std::vector<double> *fibers) const = 0;       // local cells, 3 comps (rest)
+  // Per vertex (x3): dE/dx on Dirichlet vertices (the force the support exerts, as -reactions sums it per set),
+  // 0 on free vertices.
+  virtual PetscErrorCode gatherVertexReactions(Vec xLocal, std::vector<double> *values) const = 0;
+  // Per vertex: k for a vertex of the k-th Dirichlet set (the order of -bc_clamp ids, then -bc_box boxes), 0 if free.
+  virtual PetscErrorCode gatherVertexMarkers(std::vector<double> *values) const = 0;
   PetscInt verticesPerCell() const { return shapeCols() + 1; }
   virtual int shapeCols() const = 0;
 

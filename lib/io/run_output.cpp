@@ -4,9 +4,55 @@
 #include "fem/options.hpp"
 #include "io/files.hpp"
 
+#include <algorithm>
+
 namespace aries::io {
 
-PetscErrorCode readOutputOptions(OutputOptions *o) {
+const std::vector<OutputField> &outputFields() {
+  static const std::vector<OutputField> fields = {
+      {"alpha", true, 1, false},
+      {"energy_density", true, 1, false},
+      {"fiber", true, 3, false},
+      {"J", true, 1, false},
+      {"von_mises", true, 1, false},
+      {"cauchy_stress", true, 9, false},
+      {"pk1_stress", true, 9, false},
+      {"green_strain", true, 9, false},
+      {"principal_stretches", true, 3, false},
+      {"deformation_gradient", true, 9, false},
+      {"region", true, 1, false},
+      {"velocity", false, 3, true},
+      {"reaction", false, 3, false},
+      {"marker", false, 1, false},
+  };
+  return fields;
+}
+
+const char *const kDefaultOutputFields = "alpha,energy_density,fiber,J,von_mises";
+
+namespace {
+
+std::string fieldNames() {
+  std::string names;
+  for (const auto &f : outputFields()) names += (names.empty() ? "" : "|") + std::string(f.name);
+  return names;
+}
+
+std::vector<std::string> splitCommas(const std::string &s) {
+  std::vector<std::string> out;
+  size_t start = 0;
+  while (start <= s.size()) {
+    const size_t comma = s.find(',', start);
+    out.push_back(s.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+
+}  // namespace
+
+PetscErrorCode readOutputOptions(bool dynamic, OutputOptions *o) {
   PetscBool set = PETSC_FALSE;
   PetscFunctionBeginUser;
   PetscCall(fem::optionString(nullptr, "-output", &o->output, &set));
@@ -14,6 +60,26 @@ PetscErrorCode readOutputOptions(OutputOptions *o) {
     PetscCall(fem::optionInt(nullptr, "-output_every", &o->outputEvery, nullptr));
     if (o->outputEvery < 1)
       SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -output_every must be >= 1 (got %d)", (int)o->outputEvery);
+    std::string list = kDefaultOutputFields;
+    PetscCall(fem::optionString(nullptr, "-output_fields", &list, nullptr));
+    o->fields.clear();
+    for (const std::string &name : list == "all" ? std::vector<std::string>{} : splitCommas(list)) {
+      const OutputField *f = nullptr;
+      for (const auto &g : outputFields())
+        if (name == g.name) f = &g;
+      if (!f)
+        SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -output_fields: '%s' is not a field (%s, or all)",
+                name.c_str(), fieldNames().c_str());
+      if (f->dynamicOnly && !dynamic)
+        SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+                "option -output_fields: '%s' needs -integrator beuler (a static run has no velocities)", name.c_str());
+      if (std::find(o->fields.begin(), o->fields.end(), name) != o->fields.end())
+        SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -output_fields: '%s' is listed twice", name.c_str());
+      o->fields.push_back(name);
+    }
+    if (list == "all")
+      for (const auto &g : outputFields())
+        if (dynamic || !g.dynamicOnly) o->fields.push_back(g.name);
   }
   PetscCall(fem::optionString(nullptr, "-stats", &o->stats, nullptr));
   PetscCall(fem::optionString(nullptr, "-reactions", &o->reactions, nullptr));
@@ -74,19 +140,70 @@ PetscErrorCode RunOutput::writeState(const solver::Simulation &sim, PetscInt ste
   PetscCall(sim.localState(xLocal));
   std::vector<double> positions;
   PetscCall(disc.gatherVertexField(xLocal, &positions));
+  const auto wants = [&](const char *name) {
+    return std::find(opts_.fields.begin(), opts_.fields.end(), name) != opts_.fields.end();
+  };
   fem::CellQuantities q;
-  PetscCall(disc.cellQuantities(xLocal, &q));
-  std::vector<double> fib;
-  PetscCall(disc.cellFibers(&fib));
-  std::vector<CellField> fields(3);
-  fields[0] = {"alpha", 1, {}};
-  fields[1] = {"energy_density", 1, {}};
-  fields[2] = {"fiber", 3, {}};
-  PetscCall(disc.gatherCellField(q.alpha, 1, &fields[0].values));
-  PetscCall(disc.gatherCellField(q.energyDensity, 1, &fields[1].values));
-  PetscCall(disc.gatherCellField(fib, 3, &fields[2].values));
+  if (wants("alpha") || wants("energy_density")) PetscCall(disc.cellQuantities(xLocal, &q));
+  std::vector<kernels::StressMeasures> sm;
+  const char *stressFields[] = {"J", "von_mises", "cauchy_stress", "pk1_stress", "green_strain",
+                                "principal_stretches", "deformation_gradient"};
+  for (const char *f : stressFields)
+    if (wants(f)) {
+      PetscCall(disc.cellStressMeasures(xLocal, &sm));
+      break;
+    }
+  std::vector<double> fibers, regions;
+  if (wants("fiber")) PetscCall(disc.cellFibers(&fibers));
+  if (wants("region")) disc.cellRegions(&regions);
+  // Per local cell: the field's values (components each), from the measures above.
+  const auto perCell = [&](const std::string &name, int comps) {
+    std::vector<double> v;
+    if (name == "alpha") return q.alpha;
+    if (name == "energy_density") return q.energyDensity;
+    if (name == "fiber") return fibers;
+    if (name == "region") return regions;
+    v.reserve(sm.size() * comps);
+    for (const auto &m : sm) {
+      if (name == "J") v.push_back(m.J);
+      else if (name == "von_mises") v.push_back(m.vonMises);
+      else if (name == "principal_stretches") v.insert(v.end(), m.principalStretches.data(), m.principalStretches.data() + 3);
+      else {
+        const Eigen::Matrix3d &T = name == "cauchy_stress" ? m.cauchy
+                                   : name == "pk1_stress"  ? m.pk1
+                                   : name == "green_strain" ? m.greenLagrange
+                                                            : m.deformationGradient;
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) v.push_back(T(i, j));  // row-major, as XDMF's Tensor
+      }
+    }
+    return v;
+  };
+  std::vector<CellField> cellFields, vertexFields;
+  for (const auto &f : outputFields()) {
+    if (!wants(f.name)) continue;
+    CellField out{f.name, f.components, {}};
+    if (f.perCell) {
+      PetscCall(disc.gatherCellField(perCell(f.name, f.components), f.components, &out.values));
+      cellFields.push_back(std::move(out));
+      continue;
+    }
+    if (out.name == "velocity") {
+      Vec vLocal;
+      PetscCall(DMGetLocalVector(disc.dm(), &vLocal));
+      PetscCall(VecZeroEntries(vLocal));
+      PetscCall(DMGlobalToLocal(disc.dm(), sim.velocity(), INSERT_VALUES, vLocal));
+      PetscCall(disc.gatherVertexField(vLocal, &out.values));
+      PetscCall(DMRestoreLocalVector(disc.dm(), &vLocal));
+    } else if (out.name == "reaction") {
+      PetscCall(disc.gatherVertexReactions(xLocal, &out.values));
+    } else {
+      PetscCall(disc.gatherVertexMarkers(&out.values));
+    }
+    vertexFields.push_back(std::move(out));
+  }
   PetscCall(DMRestoreLocalVector(disc.dm(), &xLocal));
-  PetscCall(writer_.writeStep(step, time, positions, fields));
+  PetscCall(writer_.writeStep(step, time, positions, cellFields, vertexFields));
   PetscCall(PetscLogStagePop());
   PetscFunctionReturn(0);
 }

@@ -8,18 +8,32 @@
 #include "solver/simulation.hpp"
 
 #include <cstdio>
+#include <string>
+#include <vector>
 
 namespace aries::io {
+
+// The fields -output_fields can select (docs/options.md lists them with their meaning).
+struct OutputField {
+  const char *name;
+  bool perCell;     // else per vertex
+  int components;   // 1 scalar, 3 vector, 9 tensor (row-major 3x3)
+  bool dynamicOnly;
+};
+const std::vector<OutputField> &outputFields();
+extern const char *const kDefaultOutputFields;
 
 struct OutputOptions {
   std::string output;      // DIR/NAME
   PetscInt outputEvery = 1;
+  std::vector<std::string> fields;  // -output_fields, validated
   std::string stats;       // FILE.csv
   std::string reactions;   // FILE.csv
   std::string newtonHistory;  // FILE.csv: one row per Newton iteration (-newton_history)
 };
 
-PetscErrorCode readOutputOptions(OutputOptions *opts);
+// `dynamic`: backward Euler (velocities exist).
+PetscErrorCode readOutputOptions(bool dynamic, OutputOptions *opts);
 
 class RunOutput final : public solver::StepObserver {
  public:

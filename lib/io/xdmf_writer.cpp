@@ -96,7 +96,8 @@ PetscErrorCode XdmfWriter::open(MPI_Comm comm, const std::string &base, const st
 }
 
 PetscErrorCode XdmfWriter::writeStep(PetscInt step, double time, const std::vector<double> &positions,
-                                     const std::vector<CellField> &cellFields) {
+                                     const std::vector<CellField> &cellFields,
+                                     const std::vector<CellField> &vertexFields) {
   PetscMPIInt rank;
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm_, &rank));
@@ -116,6 +117,11 @@ PetscErrorCode XdmfWriter::writeStep(PetscInt step, double time, const std::vect
     for (const auto &cf : cellFields) {
       ok = ok && writeDataset(f, ("/cell/" + cf.name).c_str(), cf.values.data(), numCells_, cf.components);
       cellFieldLayout_.emplace_back(cf.name, cf.components);
+    }
+    vertexFieldLayout_.clear();
+    for (const auto &vf : vertexFields) {
+      ok = ok && writeDataset(f, ("/vertex/" + vf.name).c_str(), vf.values.data(), numVertices_, vf.components);
+      vertexFieldLayout_.emplace_back(vf.name, vf.components);
     }
     if (f >= 0) ok = H5Fclose(f) >= 0 && ok;
     if (!ok || std::rename(tmp.c_str(), path.c_str()) != 0) err = "cannot write output step file '" + path + "'";
@@ -150,14 +156,17 @@ PetscErrorCode XdmfWriter::writeXmf() {
       << "    <Attribute Name=\"displacement\" AttributeType=\"Vector\" Center=\"Node\">\n"
       << "      <DataItem Dimensions=\"" << numVertices_ << " 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">"
       << s.file << ":/displacement</DataItem>\n    </Attribute>\n";
-    for (const auto &cf : cellFieldLayout_) {
-      x << "    <Attribute Name=\"" << cf.first << "\" AttributeType=\"" << (cf.second == 1 ? "Scalar" : "Vector")
-        << "\" Center=\"Cell\">\n"
-        << "      <DataItem Dimensions=\"" << numCells_;
-      if (cf.second > 1) x << " " << cf.second;
-      x << "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << s.file << ":/cell/" << cf.first
-        << "</DataItem>\n    </Attribute>\n";
-    }
+    const auto attribute = [&](const std::pair<std::string, int> &field, bool cell) {
+      const char *type = field.second == 1 ? "Scalar" : field.second == 9 ? "Tensor" : "Vector";
+      x << "    <Attribute Name=\"" << field.first << "\" AttributeType=\"" << type << "\" Center=\""
+        << (cell ? "Cell" : "Node") << "\">\n"
+        << "      <DataItem Dimensions=\"" << (cell ? numCells_ : numVertices_);
+      if (field.second > 1) x << " " << field.second;
+      x << "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << s.file << (cell ? ":/cell/" : ":/vertex/")
+        << field.first << "</DataItem>\n    </Attribute>\n";
+    };
+    for (const auto &vf : vertexFieldLayout_) attribute(vf, false);
+    for (const auto &cf : cellFieldLayout_) attribute(cf, true);
     x << "  </Grid>\n";
   }
   x << "</Grid>\n</Domain>\n</Xdmf>\n";

@@ -1,6 +1,7 @@
 // HDF5 + XDMF output that ParaView opens (-output DIR/NAME):
 //   DIR/NAME.h5                 the mesh: /mesh/topology (cells x vertices, natural gmsh order), /mesh/rest
-//   DIR/NAME.steps/NAME_<k>.h5  one file per output step: /positions, /displacement (vertex fields) and /cell/<f>
+//   DIR/NAME.steps/NAME_<k>.h5  one file per output step: /positions, /displacement, /vertex/<f> (vertex fields)
+//                               and /cell/<f> (cell fields); 9 components are a row-major 3x3 tensor
 //   DIR/NAME.xmf                temporal collection over the steps written so far
 // Every file is written under a temporary name and renamed when complete, and the .xmf is rewritten after each
 // step, so a run killed at any moment leaves the last complete step readable. Data are gathered on rank 0 in
@@ -14,9 +15,9 @@
 
 namespace aries::io {
 
-struct CellField {
+struct CellField {  // a cell or vertex field
   std::string name;
-  int components;
+  int components;              // 1, 3 or 9 (XDMF Scalar, Vector, Tensor)
   std::vector<double> values;  // natural order, rank 0
 };
 
@@ -28,7 +29,7 @@ class XdmfWriter {
                       const std::vector<double> &rest, PetscInt resumeAfterStep = -1);
   // Rank 0 writes; collective only for the error check.
   PetscErrorCode writeStep(PetscInt step, double time, const std::vector<double> &positions,
-                           const std::vector<CellField> &cellFields);
+                           const std::vector<CellField> &cellFields, const std::vector<CellField> &vertexFields = {});
   const std::string &xmfPath() const { return xmf_; }
   bool isOpen() const { return !base_.empty(); }
 
@@ -46,7 +47,7 @@ class XdmfWriter {
   int verticesPerCell_ = 4;
   std::vector<double> rest_;
   std::vector<StepEntry> steps_;
-  std::vector<std::pair<std::string, int>> cellFieldLayout_;
+  std::vector<std::pair<std::string, int>> cellFieldLayout_, vertexFieldLayout_;
 };
 
 }  // namespace aries::io
