@@ -232,6 +232,10 @@ class DiscretizationT final : public Discretization {
     Eigen::Vector3d rest;
   };
 
+  // A local vector's vertex values (padded to 3 components) gathered in natural order on rank 0, for the vertices
+  // `include` selects: each vertex's value taken once from its owner, or (sumShares) every rank's value summed.
+  PetscErrorCode gatherLocalVertexValues(Vec local, const std::function<bool(const VertexInfo &)> &include,
+                                         bool sumShares, std::vector<double> *values) const;
   EMat<R, C> deformationGradient(const Cell &cell, const PetscScalar *x) const {
     EMat<R, C> F = EMat<R, C>::Zero();
     for (int v = 0; v < NV; ++v) {
@@ -1245,24 +1249,12 @@ void DiscretizationT<R, C>::cellRegions(std::vector<double> *regions) const {
 
 template <int R, int C>
 PetscErrorCode DiscretizationT<R, C>::gatherVertexReactions(Vec xLocal, std::vector<double> *values) const {
-  MPI_Comm comm;
   PetscFunctionBeginUser;
-  PetscCall(PetscObjectGetComm((PetscObject)mesh_->dm, &comm));
   Vec g;
   PetscCall(VecDuplicate(xLocal, &g));
-  PetscCall(gradient(xLocal, g));  // each rank: its own cells' share at every local vertex (summed below)
-  const PetscScalar *ga;
-  PetscCall(VecGetArrayRead(g, &ga));
-  std::vector<PetscInt> ids;
-  std::vector<double> vals;
-  for (size_t v = 0; v < verts_.size(); ++v) {
-    if (verts_[v].bcSet < 0) continue;
-    ids.push_back(mesh_->naturalVertex[v]);
-    for (int i = 0; i < 3; ++i) vals.push_back(i < R ? ga[verts_[v].loc + i] : 0.0);
-  }
-  PetscCall(VecRestoreArrayRead(g, &ga));
+  PetscCall(gradient(xLocal, g));  // each rank: its own cells' share at every local vertex (summed by the gather)
+  PetscCall(gatherLocalVertexValues(g, [](const VertexInfo &vi) { return vi.bcSet >= 0; }, true, values));
   PetscCall(VecDestroy(&g));
-  PetscCall(gatherNatural(comm, ids, vals, 3, mesh_->numVerticesGlobal, values, /*sum=*/true));
   PetscFunctionReturn(0);
 }
 
@@ -1322,21 +1314,31 @@ PetscErrorCode DiscretizationT<R, C>::maxDisplacement(Vec xLocal, PetscReal *val
 }
 
 template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::gatherVertexField(Vec xLocal, std::vector<double> *values) const {
-  const PetscScalar *x;
+PetscErrorCode DiscretizationT<R, C>::gatherLocalVertexValues(Vec local,
+                                                              const std::function<bool(const VertexInfo &)> &include,
+                                                              bool sumShares, std::vector<double> *values) const {
+  const PetscScalar *a;
   MPI_Comm comm;
   PetscFunctionBeginUser;
   PetscCall(PetscObjectGetComm((PetscObject)mesh_->dm, &comm));
   std::vector<PetscInt> ids;
   std::vector<double> vals;
-  PetscCall(VecGetArrayRead(xLocal, &x));
+  PetscCall(VecGetArrayRead(local, &a));
   for (size_t v = 0; v < verts_.size(); ++v) {
-    if (!verts_[v].owned) continue;
+    const VertexInfo &vi = verts_[v];
+    if (!(sumShares || vi.owned) || !include(vi)) continue;
     ids.push_back(mesh_->naturalVertex[v]);
-    for (int i = 0; i < 3; ++i) vals.push_back(i < R ? x[verts_[v].loc + i] : 0.0);
+    for (int i = 0; i < 3; ++i) vals.push_back(i < R ? a[vi.loc + i] : 0.0);
   }
-  PetscCall(VecRestoreArrayRead(xLocal, &x));
-  PetscCall(gatherNatural(comm, ids, vals, 3, mesh_->numVerticesGlobal, values));
+  PetscCall(VecRestoreArrayRead(local, &a));
+  PetscCall(gatherNatural(comm, ids, vals, 3, mesh_->numVerticesGlobal, values, sumShares));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::gatherVertexField(Vec xLocal, std::vector<double> *values) const {
+  PetscFunctionBeginUser;
+  PetscCall(gatherLocalVertexValues(xLocal, [](const VertexInfo &) { return true; }, false, values));
   PetscFunctionReturn(0);
 }
 

@@ -68,8 +68,7 @@ PetscErrorCode writeCheckpoint(const solver::Simulation &sim, const std::string 
   PetscCall(DMGetLocalVector(disc.dm(), &xLocal));
   PetscCall(DMGetLocalVector(disc.dm(), &vLocal));
   PetscCall(sim.localState(xLocal));
-  PetscCall(VecZeroEntries(vLocal));
-  PetscCall(DMGlobalToLocal(disc.dm(), sim.velocity(), INSERT_VALUES, vLocal));
+  PetscCall(sim.localVelocity(vLocal));
   PetscCall(disc.gatherVertexField(xLocal, &positions));
   PetscCall(disc.gatherVertexField(vLocal, &velocities));
   PetscCall(DMRestoreLocalVector(disc.dm(), &xLocal));

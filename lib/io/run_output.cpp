@@ -9,21 +9,22 @@
 namespace aries::io {
 
 const std::vector<OutputField> &outputFields() {
+  using S = FieldSource;
   static const std::vector<OutputField> fields = {
-      {"alpha", true, 1, false},
-      {"energy_density", true, 1, false},
-      {"fiber", true, 3, false},
-      {"J", true, 1, false},
-      {"von_mises", true, 1, false},
-      {"cauchy_stress", true, 9, false},
-      {"pk1_stress", true, 9, false},
-      {"green_strain", true, 9, false},
-      {"principal_stretches", true, 3, false},
-      {"deformation_gradient", true, 9, false},
-      {"region", true, 1, false},
-      {"velocity", false, 3, true},
-      {"reaction", false, 3, false},
-      {"marker", false, 1, false},
+      {"alpha", S::CellQuantities, 1},
+      {"energy_density", S::CellQuantities, 1},
+      {"fiber", S::Fibers, 3},
+      {"J", S::StressMeasures, 1},
+      {"von_mises", S::StressMeasures, 1},
+      {"cauchy_stress", S::StressMeasures, 9},
+      {"pk1_stress", S::StressMeasures, 9},
+      {"green_strain", S::StressMeasures, 9},
+      {"principal_stretches", S::StressMeasures, 3},
+      {"deformation_gradient", S::StressMeasures, 9},
+      {"region", S::Regions, 1},
+      {"velocity", S::Velocity, 3},
+      {"reaction", S::Reactions, 3},
+      {"marker", S::Markers, 1},
   };
   return fields;
 }
@@ -70,7 +71,7 @@ PetscErrorCode readOutputOptions(bool dynamic, OutputOptions *o) {
       if (!f)
         SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -output_fields: '%s' is not a field (%s, or all)",
                 name.c_str(), fieldNames().c_str());
-      if (f->dynamicOnly && !dynamic)
+      if (f->source == FieldSource::Velocity && !dynamic)
         SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
                 "option -output_fields: '%s' needs -integrator beuler (a static run has no velocities)", name.c_str());
       if (std::find(o->fields.begin(), o->fields.end(), name) != o->fields.end())
@@ -79,7 +80,7 @@ PetscErrorCode readOutputOptions(bool dynamic, OutputOptions *o) {
     }
     if (list == "all")
       for (const auto &g : outputFields())
-        if (dynamic || !g.dynamicOnly) o->fields.push_back(g.name);
+        if (dynamic || g.source != FieldSource::Velocity) o->fields.push_back(g.name);
   }
   PetscCall(fem::optionString(nullptr, "-stats", &o->stats, nullptr));
   PetscCall(fem::optionString(nullptr, "-reactions", &o->reactions, nullptr));
@@ -140,67 +141,65 @@ PetscErrorCode RunOutput::writeState(const solver::Simulation &sim, PetscInt ste
   PetscCall(sim.localState(xLocal));
   std::vector<double> positions;
   PetscCall(disc.gatherVertexField(xLocal, &positions));
-  const auto wants = [&](const char *name) {
-    return std::find(opts_.fields.begin(), opts_.fields.end(), name) != opts_.fields.end();
+  std::vector<const OutputField *> selected;
+  for (const auto &f : outputFields())
+    if (std::find(opts_.fields.begin(), opts_.fields.end(), f.name) != opts_.fields.end()) selected.push_back(&f);
+  const auto needs = [&](FieldSource src) {
+    return std::any_of(selected.begin(), selected.end(), [&](const OutputField *f) { return f->source == src; });
   };
   fem::CellQuantities q;
-  if (wants("alpha") || wants("energy_density")) PetscCall(disc.cellQuantities(xLocal, &q));
   std::vector<kernels::StressMeasures> sm;
-  const char *stressFields[] = {"J", "von_mises", "cauchy_stress", "pk1_stress", "green_strain",
-                                "principal_stretches", "deformation_gradient"};
-  for (const char *f : stressFields)
-    if (wants(f)) {
-      PetscCall(disc.cellStressMeasures(xLocal, &sm));
-      break;
-    }
   std::vector<double> fibers, regions;
-  if (wants("fiber")) PetscCall(disc.cellFibers(&fibers));
-  if (wants("region")) disc.cellRegions(&regions);
-  // Per local cell: the field's values (components each), from the measures above.
-  const auto perCell = [&](const std::string &name, int comps) {
-    std::vector<double> v;
-    if (name == "alpha") return q.alpha;
-    if (name == "energy_density") return q.energyDensity;
-    if (name == "fiber") return fibers;
-    if (name == "region") return regions;
-    v.reserve(sm.size() * comps);
-    for (const auto &m : sm) {
-      if (name == "J") v.push_back(m.J);
-      else if (name == "von_mises") v.push_back(m.vonMises);
-      else if (name == "principal_stretches") v.insert(v.end(), m.principalStretches.data(), m.principalStretches.data() + 3);
-      else {
-        const Eigen::Matrix3d &T = name == "cauchy_stress" ? m.cauchy
-                                   : name == "pk1_stress"  ? m.pk1
-                                   : name == "green_strain" ? m.greenLagrange
-                                                            : m.deformationGradient;
-        for (int i = 0; i < 3; ++i)
-          for (int j = 0; j < 3; ++j) v.push_back(T(i, j));  // row-major, as XDMF's Tensor
-      }
-    }
-    return v;
-  };
+  if (needs(FieldSource::CellQuantities)) PetscCall(disc.cellQuantities(xLocal, &q));
+  if (needs(FieldSource::StressMeasures)) PetscCall(disc.cellStressMeasures(xLocal, &sm));
+  if (needs(FieldSource::Fibers)) PetscCall(disc.cellFibers(&fibers));
+  if (needs(FieldSource::Regions)) disc.cellRegions(&regions);
   std::vector<CellField> cellFields, vertexFields;
-  for (const auto &f : outputFields()) {
-    if (!wants(f.name)) continue;
-    CellField out{f.name, f.components, {}};
-    if (f.perCell) {
-      PetscCall(disc.gatherCellField(perCell(f.name, f.components), f.components, &out.values));
+  for (const OutputField *f : selected) {
+    const std::string name = f->name;
+    CellField out{name, f->components, {}};
+    std::vector<double> local;  // per local cell, f->components each
+    switch (f->source) {
+      case FieldSource::CellQuantities: local = name == "alpha" ? q.alpha : q.energyDensity; break;
+      case FieldSource::Fibers: local = fibers; break;
+      case FieldSource::Regions: local = regions; break;
+      case FieldSource::StressMeasures: {
+        // what of kernels::StressMeasures this field writes, chosen once
+        using M = kernels::StressMeasures;
+        const Eigen::Matrix3d M::*tensor = name == "cauchy_stress" ? &M::cauchy
+                                           : name == "pk1_stress"  ? &M::pk1
+                                           : name == "green_strain" ? &M::greenLagrange
+                                                                    : &M::deformationGradient;
+        const bool isJ = name == "J", isVonMises = name == "von_mises";
+        local.reserve(sm.size() * f->components);
+        for (const M &m : sm) {
+          if (isJ) local.push_back(m.J);
+          else if (isVonMises) local.push_back(m.vonMises);
+          else if (f->components == 3)
+            local.insert(local.end(), m.principalStretches.begin(), m.principalStretches.end());
+          else
+            for (int i = 0; i < 3; ++i)
+              for (int j = 0; j < 3; ++j) local.push_back((m.*tensor)(i, j));  // row-major, as XDMF's Tensor
+        }
+        break;
+      }
+      case FieldSource::Velocity: {
+        Vec vLocal;
+        PetscCall(DMGetLocalVector(disc.dm(), &vLocal));
+        PetscCall(sim.localVelocity(vLocal));
+        PetscCall(disc.gatherVertexField(vLocal, &out.values));
+        PetscCall(DMRestoreLocalVector(disc.dm(), &vLocal));
+        break;
+      }
+      case FieldSource::Reactions: PetscCall(disc.gatherVertexReactions(xLocal, &out.values)); break;
+      case FieldSource::Markers: PetscCall(disc.gatherVertexMarkers(&out.values)); break;
+    }
+    if (f->perCell()) {
+      PetscCall(disc.gatherCellField(local, f->components, &out.values));
       cellFields.push_back(std::move(out));
-      continue;
-    }
-    if (out.name == "velocity") {
-      Vec vLocal;
-      PetscCall(DMGetLocalVector(disc.dm(), &vLocal));
-      PetscCall(VecZeroEntries(vLocal));
-      PetscCall(DMGlobalToLocal(disc.dm(), sim.velocity(), INSERT_VALUES, vLocal));
-      PetscCall(disc.gatherVertexField(vLocal, &out.values));
-      PetscCall(DMRestoreLocalVector(disc.dm(), &vLocal));
-    } else if (out.name == "reaction") {
-      PetscCall(disc.gatherVertexReactions(xLocal, &out.values));
     } else {
-      PetscCall(disc.gatherVertexMarkers(&out.values));
+      vertexFields.push_back(std::move(out));
     }
-    vertexFields.push_back(std::move(out));
   }
   PetscCall(DMRestoreLocalVector(disc.dm(), &xLocal));
   PetscCall(writer_.writeStep(step, time, positions, cellFields, vertexFields));

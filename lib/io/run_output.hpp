@@ -13,12 +13,13 @@
 
 namespace aries::io {
 
-// The fields -output_fields can select (docs/options.md lists them with their meaning).
+// The fields -output_fields can select (docs/options.md lists them with their meaning), by what computes them.
+enum class FieldSource { CellQuantities, StressMeasures, Fibers, Regions, Velocity, Reactions, Markers };
 struct OutputField {
   const char *name;
-  bool perCell;     // else per vertex
-  int components;   // 1 scalar, 3 vector, 9 tensor (row-major 3x3)
-  bool dynamicOnly;
+  FieldSource source;
+  int components;  // 1 scalar, 3 vector, 9 tensor (row-major 3x3)
+  bool perCell() const { return source < FieldSource::Velocity; }  // else per vertex
 };
 const std::vector<OutputField> &outputFields();
 extern const char *const kDefaultOutputFields;

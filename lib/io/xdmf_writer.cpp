@@ -152,21 +152,20 @@ PetscErrorCode XdmfWriter::writeXmf() {
       // meshio's TimeSeriesReader gets one mesh and per-step data (the positions stay in the step file).
       << "    <Geometry GeometryType=\"XYZ\">\n"
       << "      <DataItem Dimensions=\"" << numVertices_ << " 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">"
-      << meshFile_ << ":/mesh/rest</DataItem>\n    </Geometry>\n"
-      << "    <Attribute Name=\"displacement\" AttributeType=\"Vector\" Center=\"Node\">\n"
-      << "      <DataItem Dimensions=\"" << numVertices_ << " 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">"
-      << s.file << ":/displacement</DataItem>\n    </Attribute>\n";
-    const auto attribute = [&](const std::pair<std::string, int> &field, bool cell) {
-      const char *type = field.second == 1 ? "Scalar" : field.second == 9 ? "Tensor" : "Vector";
-      x << "    <Attribute Name=\"" << field.first << "\" AttributeType=\"" << type << "\" Center=\""
+      << meshFile_ << ":/mesh/rest</DataItem>\n    </Geometry>\n";
+    // one field of the step file: name, components (1, 3, 9), on cells or vertices, its dataset
+    const auto attribute = [&](const std::string &name, int comps, bool cell, const std::string &dataset) {
+      const char *type = comps == 1 ? "Scalar" : comps == 9 ? "Tensor" : "Vector";
+      x << "    <Attribute Name=\"" << name << "\" AttributeType=\"" << type << "\" Center=\""
         << (cell ? "Cell" : "Node") << "\">\n"
         << "      <DataItem Dimensions=\"" << (cell ? numCells_ : numVertices_);
-      if (field.second > 1) x << " " << field.second;
-      x << "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << s.file << (cell ? ":/cell/" : ":/vertex/")
-        << field.first << "</DataItem>\n    </Attribute>\n";
+      if (comps > 1) x << " " << comps;
+      x << "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << s.file << ":" << dataset
+        << "</DataItem>\n    </Attribute>\n";
     };
-    for (const auto &vf : vertexFieldLayout_) attribute(vf, false);
-    for (const auto &cf : cellFieldLayout_) attribute(cf, true);
+    attribute("displacement", 3, false, "/displacement");
+    for (const auto &vf : vertexFieldLayout_) attribute(vf.first, vf.second, false, "/vertex/" + vf.first);
+    for (const auto &cf : cellFieldLayout_) attribute(cf.first, cf.second, true, "/cell/" + cf.first);
     x << "  </Grid>\n";
   }
   x << "</Grid>\n</Domain>\n</Xdmf>\n";

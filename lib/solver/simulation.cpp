@@ -202,6 +202,13 @@ PetscErrorCode Simulation::localState(Vec xLocal) const {
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode Simulation::localVelocity(Vec vLocal) const {
+  PetscFunctionBeginUser;
+  PetscCall(VecZeroEntries(vLocal));
+  PetscCall(DMGlobalToLocal(disc_->dm(), v_, INSERT_VALUES, vLocal));
+  PetscFunctionReturn(0);
+}
+
 // Backward Euler (-predictor_start, on by default): Newton starts from the prediction x~ = x_n + dt v_n (the minimizer
 // of the inertia term) instead of x_n when that is a better start: its total potential is lower and every alpha stays
 // acceptable (the safeguard's rule); an infinite energy (a vertex inside an obstacle, an element at alpha <= 0 under

@@ -76,6 +76,8 @@ class Simulation {
   PetscErrorCode localState(Vec xLocal) const;
   // Velocities (global, free dofs; zero for static runs).
   Vec velocity() const { return v_; }
+  // Local copy of the velocities, 0 on the Dirichlet vertices (caller restores with DMRestoreLocalVector).
+  PetscErrorCode localVelocity(Vec vLocal) const;
   PetscInt completedSteps() const { return completedSteps_; }
   double time() const { return time_; }
 

@@ -1,7 +1,7 @@
-// Output stress and strain measures (kernels/stress_measures.hpp) against closed-form states: a uniaxial stretch of
-// iarap (P = 2 mu (F - R) with lambda = 0; bw46 on cloth), a uniform scaling (J, stretches, Green-Lagrange), a rotated state (Cauchy
-// rotates with the body, Green-Lagrange does not move), an inverted element (signed stretches), and cloth / planar
-// triangles reported in the mesh's 3D frame.
+// Output stress and strain measures (kernels/stress_measures.hpp) against closed-form states: a uniaxial stretch
+// of iarap (P = 2 mu (F - R) with lambda = 0; bw46 on cloth), a uniform scaling (J, stretches, Green-Lagrange), a
+// rotated state (Cauchy rotates with the body, Green-Lagrange does not move), an inverted element (signed
+// stretches), and cloth / planar triangles reported in the mesh's 3D frame.
 #include "kernels/stress_measures.hpp"
 #include "test_support.hpp"
 
