@@ -57,7 +57,8 @@ PetscErrorCode evaluateAt(const energies::Material &m, const fem::UniformCellDat
   PetscFunctionBeginUser;
   const energies::CellData<C> cell = fem::toCellData<C>(u);
   const auto d = energies::evaluateEnergy<R, C>(m, cell, F);
-  const Mat<N, N> psd = kernels::projectToPSD<N>(d.hess);
+  // The PSD projection the solver assembles (clamp; closed-form eigensystem where the energy has one).
+  const Mat<N, N> psd = energies::evaluateFilteredEnergy<R, C>(m, cell, F, {kernels::EigenFilter::Clamp, true}).hess;
   const kernels::RootValue root = kernels::rootValue(F);
   const bool hasI4 = energies::energyUsesFibers(m.kind);
   const bool hasI6 = hasI4 && C == 2 && R == 3;

@@ -194,7 +194,7 @@ void addF(const std::string &kernel, const Pool &pool, Fn fn) {
   benchmark::RegisterBenchmark(name.c_str(), [&pool, fn](benchmark::State &st) { runOverPool(st, pool.F, fn); });
 }
 
-// Energy + PK1 + Hessian, and the same followed by the PSD projection of the 9x9 Hessian.
+// Energy + PK1 + Hessian, and the same followed by the numeric PSD projection of the 9x9 Hessian (the SVD baselines).
 template <class Fn>
 void addEnergy(const std::string &kernel, const Pool &pool, Fn fn) {
   addF(kernel, pool, fn);
@@ -202,6 +202,19 @@ void addEnergy(const std::string &kernel, const Pool &pool, Fn fn) {
     D9 d = fn(F);
     d.hess = kn::projectToPSD<9>(d.hess);
     return d;
+  });
+}
+
+// A material's energy as the assembly evaluates it: `+psd` is the solver's path (evaluateFilteredEnergy, clamp,
+// through the energy's closed-form eigensystem where it has one), `+psd[numeric]` the numeric 9x9 projection
+// (-psd_eigensystem numeric).
+void addMaterialEnergy(const std::string &kernel, const Pool &pool, const en::Material &m, const en::CellData<3> &cell) {
+  addF(kernel, pool, [&m, &cell](const Mat3 &F) { return en::evaluateEnergy<3, 3>(m, cell, F, Order::Hessian); });
+  addF(kernel + "+psd", pool, [&m, &cell](const Mat3 &F) {
+    return en::evaluateFilteredEnergy<3, 3>(m, cell, F, en::HessianFilter{kn::EigenFilter::Clamp, true});
+  });
+  addF(kernel + "+psd[numeric]", pool, [&m, &cell](const Mat3 &F) {
+    return en::evaluateFilteredEnergy<3, 3>(m, cell, F, en::HessianFilter{kn::EigenFilter::Clamp, false});
   });
 }
 
@@ -217,16 +230,13 @@ void registerAll(const std::vector<Pool> &pools) {
   static const Mat3 A = kn::fiberTensor<3>(kFiber);
 
   for (const Pool &p : pools) {
-    auto energy = [](const en::Material &m) {
-      return [&m](const Mat3 &F) { return en::evaluateEnergy<3, 3>(m, cell, F, Order::Hessian); };
-    };
     // (a)-(g): the energies, each without and with PSD projection.
-    addEnergy("iarap", p, energy(iarap));                 // closed form, default singularity mode (mollifier)
-    addEnergy("iarap[sing=none]", p, energy(iarapNone));  // closed form, no mollifier (no alpha derivatives)
-    addEnergy("arap_svd", p, energy(arapSvd));
-    addEnergy("iarap_lin", p, energy(iarapLin));
-    addEnergy("alx", p, energy(alx));
-    addEnergy("alx[sing=none]", p, energy(alxNone));
+    addMaterialEnergy("iarap", p, iarap, cell);                 // closed form, default singularity mode (mollifier)
+    addMaterialEnergy("iarap[sing=none]", p, iarapNone, cell);  // closed form, no mollifier (no alpha derivatives)
+    addEnergy("arap_svd", p, [](const Mat3 &F) { return en::evaluateEnergy<3, 3>(arapSvd, cell, F, Order::Hessian); });
+    addMaterialEnergy("iarap_lin", p, iarapLin, cell);
+    addMaterialEnergy("alx", p, alx, cell);
+    addMaterialEnergy("alx[sing=none]", p, alxNone, cell);
     addEnergy("alx_svd", p, [](const Mat3 &F) { return svdAlx(F, kFiber, kMu); });
 
     // Micro-benchmarks for context.

@@ -133,6 +133,8 @@ def case_defs():
                             r"cannot open checkpoint '.*ck\.h5' \(-restart\)")
     d["psd_projection_unknown"] = (lambda: ["-dm_plex_filename", good_mesh(), "-psd_projection", "flip"],
                                    r"option -psd_projection: 'flip' is not clamp\|abs\|adaptive\|none")
+    d["psd_eigensystem_unknown"] = (lambda: ["-dm_plex_filename", good_mesh(), "-psd_eigensystem", "svd"],
+                                    r"option -psd_eigensystem: 'svd' is not analytic\|numeric")
     d["newton_subspace_range"] = (lambda: ["-dm_plex_filename", good_mesh(), "-newton_subspace", "9"],
                                   r"option -newton_subspace must be in 0\.\.7 \(got 9\)")
     d["newton_forcing_range"] = (lambda: ["-dm_plex_filename", good_mesh(), "-newton_forcing", "1.5"],

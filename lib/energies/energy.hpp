@@ -14,6 +14,8 @@
 #include "energies/weighted_arap.hpp"
 #include "kernels/psd_projection.hpp"
 
+#include <utility>
+
 namespace aries::energies {
 
 template <int C>
@@ -24,30 +26,49 @@ inline const Mat<C, C> &materialWeight(const Material &m) {
     return m.weight2;
 }
 
+// How projected Newton filters an element's F-space Hessian (Newton options -psd_projection, -psd_eigensystem):
+// the eigenvalue filter and whether an energy's closed-form eigensystem is used where it has one (isotropic ARAP on
+// tetrahedra outside the singularity fix's band; everything else: the numeric 9x9 / 6x6 / 4x4 eigensolve).
+struct HessianFilter {
+  kernels::EigenFilter filter = kernels::EigenFilter::Clamp;
+  bool analytic = true;
+};
+
+// `filter` (optional, with Order::Hessian): the Hessian is returned eigenvalue-filtered (evaluateFilteredEnergy).
 template <int R, int C>
 inline kernels::Derivs<R * C> evaluateEnergy(const Material &m, const CellData<C> &cell, const Mat<R, C> &F,
-                                             kernels::Order order = kernels::Order::Hessian) {
+                                             kernels::Order order = kernels::Order::Hessian,
+                                             const HessianFilter *filter = nullptr) {
   constexpr int N = R * C;
   constexpr bool square = (R == C);
   using kernels::Derivs;
+  const bool filtered = filter && kernels::wants(order, kernels::Order::Hessian);
+  auto numericFilter = [&](Derivs<N> &&d) -> Derivs<N> {
+    if (filtered) d.hess = kernels::filterEigenvalues<N>(d.hess, filter->filter);
+    return std::move(d);
+  };
 
   // Energies that need no root function.
-  if (m.kind == EnergyKind::Bw) return baraffWitkin<R, C>(F, cell.a, cell.b, m.mu1, m.mu2, order);
+  if (m.kind == EnergyKind::Bw) return numericFilter(baraffWitkin<R, C>(F, cell.a, cell.b, m.mu1, m.mu2, order));
   if (m.kind == EnergyKind::ArapSvd) {
     Derivs<N> out = arapSvdShear<R, C>(F, m.mu, order);
     if constexpr (square)
       if (m.lambda != 0.0) out += volumeTerm<N>(kernels::invariantJ(F, order), m.lambda, 1.0, order);
-    return out;
+    return numericFilter(std::move(out));
   }
 
   // Tets with an isotropic weight: fused evaluation wherever the singularity fix is inactive (isotropic_arap_tet.hpp).
   if constexpr (R == 3 && C == 3) {
     const bool isoIarap = m.kind == EnergyKind::Iarap && kernels::isIsotropic<3>(m.weight3);
     if (isoIarap || m.kind == EnergyKind::IarapLin) {
-      const auto rd = kernels::rootDerivatives(F, kernels::wants(order, kernels::Order::Hessian) ? 2 : 1);
+      // The closed-form filtered Hessian needs only R (first derivatives of the root).
+      const bool chainRuleHessian = kernels::wants(order, kernels::Order::Hessian) && !(filtered && filter->analytic);
+      const auto rd = kernels::rootDerivatives(F, chainRuleHessian ? 2 : 1);
       if (m.kind == EnergyKind::IarapLin || stretchFixInactive(m.singularity, rd.root.alpha)) {
         const double w = m.kind == EnergyKind::IarapLin ? m.mu : m.weight3(0, 0);
-        return isotropicArapTet(F, rd, w, 2.0 * w, 3.0 * w, m.lambda, 1.0, order);
+        if (filtered && !filter->analytic)
+          return numericFilter(isotropicArapTet(F, rd, w, 2.0 * w, 3.0 * w, m.lambda, 1.0, order));
+        return isotropicArapTet(F, rd, w, 2.0 * w, 3.0 * w, m.lambda, 1.0, order, filtered ? &filter->filter : nullptr);
       }
     }
   }
@@ -113,7 +134,15 @@ inline kernels::Derivs<R * C> evaluateEnergy(const Material &m, const CellData<C
       break;  // handled above
   }
   out += terms.barrier();
-  return out;
+  return numericFilter(std::move(out));
+}
+
+// Value, PK1 and the eigenvalue-filtered Hessian (projected Newton): through the energy's closed-form eigensystem
+// where it has one and filter.analytic is set, else by the numeric eigensolve of psd_projection.hpp.
+template <int R, int C>
+inline kernels::Derivs<R * C> evaluateFilteredEnergy(const Material &m, const CellData<C> &cell, const Mat<R, C> &F,
+                                                     const HessianFilter &filter) {
+  return evaluateEnergy<R, C>(m, cell, F, kernels::Order::Hessian, &filter);
 }
 
 // The singularity measure alpha at F (the line-search safeguard's quantity).

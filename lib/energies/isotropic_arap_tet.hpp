@@ -9,11 +9,16 @@
 #pragma once
 
 #include "energies/material.hpp"
+#include "kernels/isotropic_eigensystem.hpp"
 
 namespace aries::energies {
 
+// With `filter`, the Hessian is the eigenvalue-filtered one, built from the closed-form eigensystem of this
+// Psi(I1, I2, I3) (isotropic_eigensystem.hpp: Psi_1 = -b, Psi_2 = a, Psi_3 = lambda (J - J0), Psi_33 = lambda) instead
+// of the chain rule followed by a 9x9 eigensolve.
 inline kernels::Derivs<9> isotropicArapTet(const Mat<3, 3> &F, const kernels::RootDerivatives<3> &rd, double a,
-                                           double b, double c, double lambda, double J0, kernels::Order order) {
+                                           double b, double c, double lambda, double J0, kernels::Order order,
+                                           const kernels::EigenFilter *filter = nullptr) {
   using kernels::Order;
   kernels::Derivs<9> out;
   const double J = F.determinant(), IC = F.squaredNorm(), f = rd.root.f, dJ = J - J0;
@@ -23,6 +28,13 @@ inline kernels::Derivs<9> isotropicArapTet(const Mat<3, 3> &F, const kernels::Ro
   const Mat<3, 3> R = kernels::rotationFromRoot(F, rd);
   out.grad = kernels::flatten<3, 3>(Mat<3, 3>(2.0 * a * F - b * R + lambda * dJ * cof));
   if (!kernels::wants(order, Order::Hessian)) return out;
+  if (filter) {
+    kernels::IsotropicPsiDerivatives psi;
+    psi.first << -b, a, lambda * dJ;
+    psi.second(2, 2) = lambda;
+    out.hess = kernels::filteredIsotropicHessian(F, R, psi, *filter);
+    return out;
+  }
   const Mat<3, 3> Cg = F.transpose() * F;
   out.hess.diagonal().setConstant(2.0 * a - 2.0 * b * rd.d1[0]);
   kernels::addHessianIIC<3, 3>(F, Cg, -b * rd.d1[1], out.hess);

@@ -1033,9 +1033,9 @@ PetscErrorCode DiscretizationT<R, C>::hessian(Vec xLocal, Mat J) {
   for (size_t c = 0; c < cells_.size(); ++c) {
     const Cell &cell = cells_[c];
     if (!cell.owned) continue;
-    const auto d = energies::evaluateEnergy<R, C>(materialOf(c), dataOf(c), deformationGradient(cell, x),
-                                                  kernels::Order::Hessian);
-    const EMat<NF, NF> H = cell.measure * kernels::filterEigenvalues<NF>(d.hess, eigenFilter_);
+    const auto d = energies::evaluateFilteredEnergy<R, C>(materialOf(c), dataOf(c), deformationGradient(cell, x),
+                                                          hessianFilter_);
+    const EMat<NF, NF> H = cell.measure * d.hess;
     // K[(v,i),(u,k)] = sum_jl H[(i,j),(k,l)] W(v,j) W(u,l)
     Eigen::Matrix<double, NF, NDOF> HB;  // H * B, B[(k,l),(u,k')] = delta_kk' W(u,l)
     for (int row = 0; row < NF; ++row)

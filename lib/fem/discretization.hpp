@@ -11,6 +11,7 @@
 #include "fem/boundary.hpp"
 #include "fem/material_options.hpp"
 #include "fem/mesh.hpp"
+#include "energies/energy.hpp"
 #include "kernels/psd_projection.hpp"
 #include "kernels/stress_measures.hpp"
 
@@ -74,8 +75,10 @@ class Discretization {
   virtual PetscErrorCode hessian(Vec xLocal, Mat J) = 0;        // assembled, eigenvalue-filtered per element
   // The element Hessians' eigenvalue filter used by hessian() (kernels/psd_projection.hpp); the Newton solver picks it
   // per iteration (-psd_projection).
-  void setEigenFilter(kernels::EigenFilter filter) { eigenFilter_ = filter; }
-  kernels::EigenFilter eigenFilter() const { return eigenFilter_; }
+  void setEigenFilter(kernels::EigenFilter filter) { hessianFilter_.filter = filter; }
+  kernels::EigenFilter eigenFilter() const { return hessianFilter_.filter; }
+  // Closed-form eigensystems where an energy has one (-psd_eigensystem analytic), else the numeric eigensolve.
+  void setAnalyticEigensystem(bool analytic) { hessianFilter_.analytic = analytic; }
   // Gram matrix G_kl = d_k^T H d_l of K <= 8 directions d_k (local vectors with zeros at the Dirichlet dofs) with the
   // true (unfiltered) Hessian H of the total potential at a local state; row-major K x K, collective. The contact term
   // enters with its PSD Hessian (kernels/obstacle_barrier.hpp). Used by the Newton solver's subspace step and the
@@ -141,7 +144,7 @@ class Discretization {
   double restMeasure_ = 0.0;
   std::vector<energies::Material> materials_;
   DynamicsTerms dyn_;
-  kernels::EigenFilter eigenFilter_ = kernels::EigenFilter::Clamp;
+  energies::HessianFilter hessianFilter_;
   double load_ = 0.0;
   double time_ = 0.0;
 };

@@ -673,6 +673,12 @@ PetscErrorCode NewtonSolver::readOptions(bool dynamic) {
   else
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -psd_projection: '%s' is not clamp|abs|adaptive|none",
             filter.c_str());
+  std::string eigensystem = "analytic";
+  PetscCall(fem::optionString(nullptr, "-psd_eigensystem", &eigensystem, &set));
+  if (eigensystem != "analytic" && eigensystem != "numeric")
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -psd_eigensystem: '%s' is not analytic|numeric",
+            eigensystem.c_str());
+  analyticEigensystem_ = eigensystem == "analytic";
   if (filterMode_ == EigenFilterMode::Adaptive) {
     PetscCall(fem::optionReal(nullptr, "-psd_adaptive_tol", &adaptiveTol_, &set));
     if (!(adaptiveTol_ > 0.0))
@@ -779,6 +785,7 @@ PetscErrorCode NewtonSolver::solve(Vec x, NewtonResult *result) {
   historyCount_ = 0;
   lastFull_ = false;
   disc_->setEigenFilter(initialFilter());
+  disc_->setAnalyticEigensystem(analyticEigensystem_);
   PetscCall(SNESGetKSP(snes_, &ksp));
   PetscCall(KSPGetTotalIterations(ksp, &kspBefore));
   PetscCall(SNESSolve(snes_, nullptr, x));

@@ -132,6 +132,7 @@ class NewtonSolver {
   double newtonTol_ = 0.0, stepTol_ = 0.0;
   double alphaMin_ = 1e-6;
   EigenFilterMode filterMode_ = EigenFilterMode::Clamp;
+  bool analyticEigensystem_ = true;  // -psd_eigensystem analytic|numeric
   double adaptiveTol_ = 0.01;
   PetscInt subspace_ = 1;
   double subspaceMax_ = 0.0;   // limit of the Newton direction's coefficient in a subspace step (0: none)
