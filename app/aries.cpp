@@ -5,6 +5,7 @@
 #include "fem/discretization.hpp"
 #include "fem/errors.hpp"
 #include "fem/options.hpp"
+#include "io/options_help.hpp"
 #include "io/run_output.hpp"
 #include "io/version.hpp"
 #include "solver/simulation.hpp"
@@ -23,7 +24,7 @@ namespace {
 
 const char kHelp[] =
     "aries: analytic rotation-invariant anisotropic FE solver (PETSc/SNES).\n"
-    "  aries -options_file options/SCENE.yml [overrides]      see docs/options.md for every option\n";
+    "  aries -options_file options/SCENE.yml [overrides]      docs/options.md has every option\n";
 
 // Options whose value PETSc reads only at solve or finalize time (viewers, monitors); a strict check at setup
 // must not report them as unused.
@@ -72,9 +73,17 @@ PetscErrorCode run(int *exitCode) {
   PetscBool showVersion = PETSC_FALSE;
   PetscCall(PetscOptionsHasName(nullptr, nullptr, "-help", &help));
   PetscCall(PetscOptionsHasName(nullptr, nullptr, "-version", &showVersion));
+  PetscBool haveMesh = PETSC_FALSE;
+  PetscCall(PetscOptionsHasName(nullptr, nullptr, "-dm_plex_filename", &haveMesh));
   if (help || showVersion) {  // PETSc has printed its own help / version text by now
-    PetscCall(PetscPrintf(comm, "aries %s (git %s)\n%s", io::version(), io::gitCommit(), help ? kHelp : ""));
-    PetscFunctionReturn(0);
+    // (kHelp, the usage, is at the top of PETSc's help text: PetscInitialize prints it)
+    PetscCall(PetscPrintf(comm, "aries %s (git %s)\n", io::version(), io::gitCommit()));
+    if (help) PetscCall(io::printOptionsHelp(comm));
+    if (help && !haveMesh)
+      PetscCall(PetscPrintf(comm, "The SNES, KSP, PC and DM options of a run are listed by PETSc when -help is given "
+                                  "with a mesh, e.g. aries -options_file options/bunny_inside_out.yml -help\n"));
+    // With a mesh, -help sets the run up (PETSc lists each object's options as it is configured) and stops there.
+    if (!(help && haveMesh)) PetscFunctionReturn(0);
   }
   PetscCall(fem::optionBool(nullptr, "-strict", &strict, nullptr));
   PetscCall(PetscLogStageRegister("setup", &setupStage));
@@ -103,6 +112,10 @@ PetscErrorCode run(int *exitCode) {
     resumeStep = st.step;
     PetscCall(PetscPrintf(comm, "aries: restarting from '%s' after step %d (t = %g)%s\n", ckOpts.restart.c_str(),
                           (int)st.step, st.time, st.step == simOpts.steps ? ": already at the last step, nothing to do" : ""));
+  }
+  if (help) {  // everything is configured and PETSc has listed its options: nothing is computed or written
+    PetscCall(PetscLogStagePop());
+    PetscFunctionReturn(0);
   }
   // Every option is read by now except the output's own, which were read first: check before any file is written.
   PetscCall(checkUnusedOptions(comm, strict));

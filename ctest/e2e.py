@@ -675,6 +675,77 @@ def case_unused_option_warning():
         tag=tag + "_strict")
 
 
+# Options aries queries but does not own: PETSc's -help, and the gmsh reader's vertex labels, which aries switches on
+# (lib/fem/mesh.cpp: the boundary sets need them) unless the user sets the PETSc option.
+NOT_ARIES_OPTIONS = {"-help", "-dm_plex_gmsh_mark_vertices"}
+
+
+def documented_options():
+    """Option names of the option tables of docs/options.md (the source `aries -help` is generated from), the energy
+    names and the output fields."""
+    opts, energies, fields, table = set(), set(), set(), None
+    with open(os.path.join(ARGS.root, "docs", "options.md")) as fh:
+        for line in fh:
+            if not line.startswith("|"):
+                table = None
+                continue
+            cells = [c.strip() for c in re.split(r"(?<!\\)\|", line.strip())[1:-1]]
+            if cells and cells[0] in ("option", "energy", "field"):
+                table = cells[0]
+            elif not cells or set(cells[0]) <= {"-"}:
+                continue
+            elif table == "option":
+                opts |= set(re.findall(r"`(-[A-Za-z][A-Za-z0-9_<>]*)", cells[0]))
+            elif table == "energy":
+                energies.add(cells[0].strip("`"))
+            elif table == "field":
+                fields.add(cells[0].strip("`"))
+    return opts, energies, fields
+
+
+def case_help():
+    """`aries -help` lists every option of docs/options.md with its default and meaning, every energy and output
+    field (exit 0); every option the code reads is documented there (a scan of lib/ and app/aries.cpp for the option
+    readers; PETSc options whose default aries sets are in the docs' prose); with a mesh, -help sets the run up so PETSc lists the SNES, line search, KSP, PC and DM options too,
+    and nothing is computed or written."""
+    log, _ = run(["-help"], tag="help")
+    opts, energies, fields = documented_options()
+    if len(opts) < 60 or len(energies) < 10 or len(fields) < 10:
+        fail("docs/options.md parsed to %d options, %d energies, %d fields" % (len(opts), len(energies), len(fields)))
+    usage = set(re.findall(r"^  (\S+)", log, re.M))
+    missing = sorted(o for o in opts if o not in log)
+    missing += sorted(e for e in energies | fields if e not in usage)
+    if missing:
+        fail("-help does not list: %s" % ", ".join(missing))
+    if "-newton_tol X [1e-2 (beuler), 1e-4 (static)]" not in log:
+        fail("-help does not show -newton_tol with its default")
+    src = ""
+    for f in glob.glob(os.path.join(ARGS.root, "lib", "**", "*.[ch]pp"), recursive=True) + \
+            [os.path.join(ARGS.root, "app", "aries.cpp")]:
+        with open(f) as fh:
+            src += fh.read()
+    read = set(re.findall(r'option(?:String|Real|Int|Bool|RealList|WordList)\(\s*[^,()]*,\s*"(-[A-Za-z0-9_]+)"', src))
+    read |= set(re.findall(r'PetscOptions(?:HasName|GetString|GetReal|GetInt|GetBool)\(\s*[^,]*,\s*[^,]*,\s*'
+                           r'"(-[A-Za-z0-9_]+)"', src))
+    if len(read) < 50:
+        fail("the source scan found only %d option reads" % len(read))
+    # PETSc options whose default aries changes are documented in the prose of docs/options.md (solver defaults).
+    with open(os.path.join(ARGS.root, "docs", "options.md")) as fh:
+        anywhere = set(re.findall(r"`(-[A-Za-z][A-Za-z0-9_]*)", fh.read()))
+    undocumented = sorted(read - opts - anywhere - NOT_ARIES_OPTIONS)
+    if undocumented:
+        fail("options read by the code but not in docs/options.md: %s" % ", ".join(undocumented))
+    print("-help lists %d options, %d energies, %d output fields; the code reads %d options, all documented"
+          % (len(opts), len(energies), len(fields), len(read)))
+    tag = "help_mesh"
+    log, _ = run(["-dm_plex_filename", mesh("bunny"), "-steps", "1", "-output", out_base(tag), "-help"], tag=tag)
+    for petsc in ("-snes_type", "-snes_linesearch_type", "-ksp_type", "-ksp_rtol", "-pc_type", "-dm_plex_gmsh"):
+        if not re.search(r"^\s*%s" % re.escape(petsc), log, re.M):
+            fail("-help with a mesh does not list PETSc's %s options" % petsc)
+    if os.path.exists(out_base(tag) + ".xmf") or os.path.exists(out_base(tag) + ".h5"):
+        fail("-help wrote output")
+
+
 def case_version():
     """-version prints the aries version and git commit (exit 0); the same pair is in every output .h5 file (root
     attributes aries_version / aries_commit) and in the first line of the stats CSV."""
@@ -821,6 +892,7 @@ CASES = {
     "meshio_xdmf": case_meshio_xdmf,
     "output_times": case_output_times,
     "version": case_version,
+    "help": case_help,
     "unused_option_warning": case_unused_option_warning,
     "shape_target": case_shape_target,
     "shape_keyframes": case_shape_keyframes,
