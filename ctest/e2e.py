@@ -681,25 +681,20 @@ NOT_ARIES_OPTIONS = {"-help", "-dm_plex_gmsh_mark_vertices"}
 
 
 def documented_options():
-    """Option names of the option tables of docs/options.md (the source `aries -help` is generated from), the energy
-    names and the output fields."""
-    opts, energies, fields, table = set(), set(), set(), None
+    """Option names of the option tables of docs/options.md, the energy names and the output fields, read by the
+    parser `aries -help` is generated with (cmake/options_help.py)."""
+    sys.path.insert(0, os.path.join(ARGS.root, "cmake"))
+    import options_help
     with open(os.path.join(ARGS.root, "docs", "options.md")) as fh:
-        for line in fh:
-            if not line.startswith("|"):
-                table = None
-                continue
-            cells = [c.strip() for c in re.split(r"(?<!\\)\|", line.strip())[1:-1]]
-            if cells and cells[0] in ("option", "energy", "field"):
-                table = cells[0]
-            elif not cells or set(cells[0]) <= {"-"}:
-                continue
-            elif table == "option":
-                opts |= set(re.findall(r"`(-[A-Za-z][A-Za-z0-9_<>]*)", cells[0]))
-            elif table == "energy":
-                energies.add(cells[0].strip("`"))
-            elif table == "field":
-                fields.add(cells[0].strip("`"))
+        table = list(options_help.rows(fh.read()))
+    opts, energies, fields = set(), set(), set()
+    for section, usage, _, _ in table:
+        if section.startswith("Energies"):
+            energies.add(usage)
+        elif section.startswith("Output fields"):
+            fields.add(usage)
+        else:
+            opts |= set(re.findall(r"(?<![A-Za-z0-9_])(-[A-Za-z][A-Za-z0-9_<>]*)", usage))
     return opts, energies, fields
 
 
