@@ -210,7 +210,7 @@ def main():
                 os.makedirs(img, exist_ok=True)
                 for k, tag in ((0, "rest"), (step, "final")):
                     cmd = ["/usr/bin/python3", os.path.join(ROOT, "scripts", "render_png.py"), base,
-                           os.path.join(img, "%s_%s.png" % (n, tag)), "--color", "displacement", "--view", "15,-120",
+                           os.path.join(img, "%s_%s.png" % (n, tag)), "--field", "displacement", "--view", "15,-120",
                            "--title", "%s (%s)" % (n, "rest" if k == 0 else "step %s" % (k or len(st)))]
                     if k is not None:
                         cmd += ["--step", str(k)]
@@ -241,7 +241,7 @@ def main():
                           yml_value(opts, "bending", extra), len(st), paper[3], newton, solves, pcg, secs, failed,
                           paper[4], paper[5], paper[6]))
             subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "scripts", "render_png.py"), base,
-                            os.path.join(img, "cloth_%s.png" % n), "--color", "displacement", "--view", "30,-60",
+                            os.path.join(img, "cloth_%s.png" % n), "--field", "displacement", "--view", "30,-60",
                             "--title", "%s (step %d)" % (label, len(st))], check=False)
     out.append("")
     out += steps_note

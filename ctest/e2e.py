@@ -741,6 +741,70 @@ def case_help():
         fail("-help wrote output")
 
 
+def case_scripts():
+    """The post-processing scripts on a real run: render_png.py draws the stress, J and alpha fields with a colour bar
+    and a caption carrying each field's actual range (and stops with one error line naming the fields present when
+    asked for one that was not written); plot_stats.py charts the stats CSV."""
+    tag = "scripts"
+    run(["-options_file", os.path.join(ARGS.root, "options", "bunny_inside_out.yml"), "-dm_plex_filename", mesh("bunny"),
+         "-steps", "2", "-output", out_base(tag), "-output_every", "1", "-stats", out_base(tag) + ".csv",
+         "-output_fields", "alpha,J,von_mises,cauchy_stress"], tag=tag)
+    py = "/usr/bin/python3"
+    for field, expect in (("stress", r"von Mises stress: \S+ \.\. \S+"), ("J", r"J = det F: \S+ \.\. \S+"),
+                          ("alpha", r"alpha of the adjacent cell .*, rest 64, \d+ of \d+ cells at alpha = 0"), ("cauchy_stress", r"\|cauchy_stress\|")):
+        png = out_base(tag) + "_%s.png" % field
+        p = subprocess.run([py, os.path.join(ARGS.root, "scripts", "render_png.py"), out_base(tag), png, "--field", field,
+                            "--step", "0" if field == "alpha" else "2"], capture_output=True, text=True)
+        print(p.stdout.strip() + p.stderr.strip())
+        if p.returncode != 0 or not re.search(expect, p.stdout) or os.path.getsize(png) < 10000:
+            fail("render_png.py --field %s: exit %d, caption not /%s/ or no image" % (field, p.returncode, expect))
+    start = subprocess.run([py, os.path.join(ARGS.root, "scripts", "render_png.py"), out_base(tag),
+                            out_base(tag) + "_start.png", "--field", "J", "--step", "0"], capture_output=True, text=True)
+    m = re.search(r"\((\d+) inverted cells\)", start.stdout)
+    if not m or int(m.group(1)) == 0:
+        fail("the caption of the inside-out start should count its inverted cells: %s" % start.stdout.strip())
+    p = subprocess.run([py, os.path.join(ARGS.root, "scripts", "render_png.py"), out_base(tag), out_base(tag) + "_x.png",
+                        "--field", "pk1_stress"], capture_output=True, text=True)
+    err = [l for l in p.stderr.splitlines() if l.strip()]
+    print("\n".join(err))
+    if p.returncode == 0 or len(err) != 1 or not err[0].startswith("render_png: error: field 'pk1_stress'") \
+            or "von_mises" not in err[0]:
+        fail("render_png.py with a field not written should stop with one error line naming the fields present")
+    png = out_base(tag) + "_stats.png"
+    p = subprocess.run([py, os.path.join(ARGS.root, "scripts", "plot_stats.py"), out_base(tag) + ".csv", png],
+                       capture_output=True, text=True)
+    print(p.stdout.strip() + p.stderr.strip())
+    if p.returncode != 0 or os.path.getsize(png) < 10000:
+        fail("plot_stats.py failed (exit %d)" % p.returncode)
+
+
+def case_paraview():
+    """ParaView as a client: pvpython (headless under xvfb-run) opens the XDMF of a compressed cylinder, warps the rest
+    geometry by `displacement` with scale 1 and renders the von Mises stress (scripts/paraview_screenshot.py); the
+    warped geometry must match the positions aries wrote. Skipped (exit 77, shown as skipped by ctest) where pvpython
+    or xvfb-run is not installed."""
+    import shutil
+    if not shutil.which("pvpython") or not shutil.which("xvfb-run"):
+        print("SKIPPED: pvpython or xvfb-run is not installed (Debian: apt-get install paraview python3-paraview xvfb)")
+        sys.exit(77)
+    tag = "paraview"
+    run(["-options_file", os.path.join(ARGS.root, "options", "cylinder_compress.yml"), "-dm_plex_filename",
+         mesh("cylinder"), "-output", out_base(tag), "-output_fields", "von_mises,J"], tag=tag)
+    png = out_base(tag) + ".png"
+    cmd = ["xvfb-run", "-a", "pvpython", "--force-offscreen-rendering",
+           os.path.join(ARGS.root, "scripts", "paraview_screenshot.py"), out_base(tag) + ".xmf", png, "--field",
+           "von_mises", "--check-positions", out_base(tag)]
+    print("$ " + " ".join(cmd), flush=True)
+    p = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
+    print(p.stdout.strip())
+    print(p.stderr.strip()[-2000:])
+    m = re.search(r"warped geometry vs positions: max \|diff\| ([0-9.eE+-]+)", p.stdout)
+    if p.returncode != 0 or not os.path.exists(png) or os.path.getsize(png) < 20000:
+        fail("paraview_screenshot.py failed (exit %d) or wrote no image" % p.returncode)
+    if not m or not float(m.group(1)) <= 1e-12:
+        fail("ParaView's warped geometry does not match the positions aries wrote")
+
+
 def case_version():
     """-version prints the aries version and git commit (exit 0); the same pair is in every output .h5 file (root
     attributes aries_version / aries_commit) and in the first line of the stats CSV."""
@@ -785,12 +849,13 @@ def case_output_times():
 def case_meshio_xdmf():
     """The XDMF output read by a third-party client (meshio's TimeSeriesReader): one mesh, the rest geometry and
     topology of the input .msh file (read by meshio too), then per step a displacement whose sum with the rest
-    geometry is the positions aries computed, the cell fields, and the step times k dt."""
+    geometry is the positions aries computed, the cell fields (with -output_fields all: the stress and strain fields
+    of the inside-out bunny, checked cell by cell against each other and against F), and the step times k dt."""
     import meshio
     tag = "meshio_np%d" % ARGS.ranks
     run(["-options_file", os.path.join(ARGS.root, "options", "bunny_inside_out.yml"), "-dm_plex_filename",
-         mesh("bunny"), "-steps", "3", "-output", out_base(tag), "-output_every", "1", "-stats", out_base(tag) + ".csv"],
-        tag=tag)
+         mesh("bunny"), "-steps", "3", "-output", out_base(tag), "-output_every", "1", "-stats", out_base(tag) + ".csv",
+         "-output_fields", "all"], tag=tag)
     msh = meshio.read(mesh("bunny"))
     msh_tets = [c.data for c in msh.cells if c.type == "tetra"][0]
     with meshio.xdmf.TimeSeriesReader(out_base(tag) + ".xmf") as r:
@@ -808,9 +873,37 @@ def case_meshio_xdmf():
             t, point_data, cell_data = r.read_data(k)
             if abs(t - k * 0.01) > 1e-15:
                 fail("step %d at t = %r, expected %g" % (k, t, k * 0.01))
-            for name in ("alpha", "energy_density"):
-                if name not in cell_data or cell_data[name][0].shape[0] != len(msh_tets):
-                    fail("cell field %s missing or of the wrong size at step %d" % (name, k))
+            for name, comps in (("alpha", 1), ("energy_density", 1), ("J", 1), ("von_mises", 1), ("cauchy_stress", 9),
+                                ("pk1_stress", 9), ("green_strain", 9), ("deformation_gradient", 9),
+                                ("principal_stretches", 3)):
+                if name not in cell_data or cell_data[name][0].shape[0] != len(msh_tets) or \
+                        (cell_data[name][0].reshape(len(msh_tets), -1).shape[1] != comps):
+                    fail("cell field %s missing or of the wrong shape at step %d" % (name, k))
+            # The stress and strain fields of an inside-out body, checked against each other cell by cell:
+            # J = det F, E = (F^T F - I)/2, sigma = P F^T / J (where J != 0), von Mises of sigma, and the principal
+            # stretches' product = J (signed for inverted cells).
+            F = cell_data["deformation_gradient"][0].reshape(-1, 3, 3)
+            P = cell_data["pk1_stress"][0].reshape(-1, 3, 3)
+            J = cell_data["J"][0].reshape(-1)
+            if np.abs(np.linalg.det(F) - J).max() > 1e-12 * max(1.0, np.abs(J).max()):
+                fail("step %d: J is not det F" % k)
+            E = cell_data["green_strain"][0].reshape(-1, 3, 3)
+            if np.abs(E - 0.5 * (np.einsum("kji,kjl->kil", F, F) - np.eye(3))).max() > 1e-12 * max(1.0, np.abs(E).max()):
+                fail("step %d: green_strain is not (F^T F - I)/2" % k)
+            ok = np.abs(J) > 1e-6
+            sig = cell_data["cauchy_stress"][0].reshape(-1, 3, 3)
+            ref = np.einsum("kij,klj->kil", P, F) / J[:, None, None]
+            if np.abs(sig[ok] - ref[ok]).max() > 1e-9 * np.abs(ref[ok]).max():
+                fail("step %d: cauchy_stress is not P F^T / J" % k)
+            dev = sig - np.trace(sig, axis1=1, axis2=2)[:, None, None] * np.eye(3) / 3.0
+            vm = np.sqrt(1.5 * np.einsum("kij,kij->k", dev, dev))
+            if np.abs(vm[ok] - cell_data["von_mises"][0].reshape(-1)[ok]).max() > 1e-9 * vm[ok].max():
+                fail("step %d: von_mises does not match cauchy_stress" % k)
+            lam = cell_data["principal_stretches"][0].reshape(-1, 3)
+            if np.abs(lam.prod(1) - J).max() > 1e-10 * max(1.0, np.abs(J).max()):
+                fail("step %d: the principal stretches' product is not J" % k)
+            if k == 0 and not (J < 0).sum() > len(J) // 2:
+                fail("the inside-out start should have most cells inverted (J < 0): %d of %d" % ((J < 0).sum(), len(J)))
             with h5py.File(step_file(out_base(tag), k), "r") as h:
                 x = h["/positions"][:]
             worst = max(worst, np.abs(points + point_data["displacement"] - x).max())
@@ -888,6 +981,8 @@ CASES = {
     "output_times": case_output_times,
     "version": case_version,
     "help": case_help,
+    "scripts": case_scripts,
+    "paraview": case_paraview,
     "unused_option_warning": case_unused_option_warning,
     "shape_target": case_shape_target,
     "shape_keyframes": case_shape_keyframes,
