@@ -739,6 +739,10 @@ def case_help():
             fail("-help with a mesh does not list PETSc's %s options" % petsc)
     if os.path.exists(out_base(tag) + ".xmf") or os.path.exists(out_base(tag) + ".h5"):
         fail("-help wrote output")
+    # PETSc's viewers work and are not reported as unused: -dm_view prints the distributed mesh, -snes_view the solver.
+    log, _ = run(["-dm_plex_filename", mesh("bunny"), "-steps", "1", "-dm_view", "-snes_view"], tag="viewers")
+    if "DM Object: aries_mesh" not in log or "SNES Object" not in log or "unused" in log:
+        fail("-dm_view / -snes_view did not print the mesh and the solver, or were reported unused")
 
 
 def case_scripts():

@@ -236,6 +236,10 @@ PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh) {
             "mesh '%s' contains cells that are not tetrahedra/triangles; aries supports linear simplices only",
             mesh->filename.c_str());
 
+  // PETSc's mesh viewer (-dm_view[ :file:format], e.g. -dm_view ::ascii_info_detail or -dm_view hdf5:mesh.h5) on the
+  // distributed mesh.
+  PetscCall(DMViewFromOptions(mesh->dm, nullptr, "-dm_view"));
+
   // Rest bounding box and its diagonal L.
   Vec coords;
   PetscInt n;
