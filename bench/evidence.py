@@ -38,7 +38,7 @@ sys.path.insert(0, BENCH)
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
 sys.path.insert(0, os.path.join(ROOT, "ctest"))
 import scenes  # noqa: E402  (paper rows, machine line, mesh generation)
-from harness import aries_cmd, mpi_env  # noqa: E402  (how aries is launched)
+from harness import aries_cmd, mpi_env, step_files  # noqa: E402  (how aries is launched, the output layout)
 from shape_error import shape_error  # noqa: E402  (distance to rest / L)
 
 WORK = os.path.join(ROOT, "out", "evidence")
@@ -218,7 +218,7 @@ class Run:
         return sum(int(r[key]) for r in self.rows)
 
     def positions(self):
-        files = sorted(glob.glob(self.base + ".steps/state_*.h5"))
+        files = step_files(self.base)
         if not files:
             return None
         with h5py.File(files[-1], "r") as f:

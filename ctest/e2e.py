@@ -19,7 +19,7 @@ import sys
 import h5py
 import numpy as np
 
-from harness import aries_cmd, csv_rows, fail, mpi_env, step_file, test_mesh
+from harness import aries_cmd, csv_rows, fail, mpi_env, step_file, step_files, test_mesh
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "scripts"))
 from shape_error import shape_error as distance_to_rest  # noqa: E402
@@ -54,8 +54,7 @@ def read_state(base, step=None):
     with h5py.File(base + ".h5", "r") as f:
         rest = f["/mesh/rest"][:]
         cells = f["/mesh/topology"][:]
-    d, n = os.path.dirname(base), os.path.basename(base)
-    files = sorted(glob.glob(os.path.join(d, n + ".steps", n + "_*.h5")))
+    files = step_files(base)
     if not files:
         fail("no output steps for " + base)
     path = files[-1] if step is None else step_file(base, step)
@@ -476,9 +475,8 @@ def case_cloth_sphere():
         fail("-info :mat reported no matrix assembly: the malloc check did not run")
     if sum(mallocs):
         fail("%d mallocs during Hessian assembly: a coupling is not preallocated" % sum(mallocs))
-    d, n = os.path.dirname(out_base(tag)), os.path.basename(out_base(tag))
     worst, touched = np.inf, False
-    for f in sorted(glob.glob(os.path.join(d, n + ".steps", n + "_*.h5"))):
+    for f in step_files(out_base(tag)):
         with h5py.File(f, "r") as h:
             x = h["/positions"][:]
         dist = min((np.linalg.norm(x - center, axis=1) - radius).min(), (x[:, 2] + 0.6).min())

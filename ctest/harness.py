@@ -7,6 +7,9 @@ import sys
 
 import h5py
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scripts"))
+from aries_output import step_file, step_files  # noqa: E402,F401  (the output layout; re-exported to the drivers)
+
 
 def fail(msg):
     """Ends the case; CTest matches the 'FAIL:' prefix (FAIL_REGULAR_EXPRESSION) as well as the exit code."""
@@ -34,11 +37,6 @@ def test_mesh(root, name):
     if p.returncode != 0:
         fail("mesh generation failed: " + p.stderr[-2000:])
     return p.stdout.strip().splitlines()[-1]
-
-
-def step_file(base, step):
-    d, n = os.path.dirname(base), os.path.basename(base)
-    return os.path.join(d, n + ".steps", "%s_%06d.h5" % (n, step))
 
 
 def step_positions(base, step):

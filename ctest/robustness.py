@@ -13,7 +13,6 @@ determinism    the same run twice on the same ranks gives bitwise identical stat
                the run on 1 rank matches the 2-rank run to 1e-6 L (1% of the Newton tolerance).
 """
 import argparse
-import glob
 import os
 import shutil
 import signal
@@ -23,7 +22,7 @@ import time
 import h5py
 import numpy as np
 
-from harness import aries_cmd, csv_rows, fail, mpi_env, step_positions, test_mesh
+from harness import aries_cmd, csv_rows, fail, mpi_env, step_files, step_positions, test_mesh
 
 ARGS = None
 
@@ -83,11 +82,11 @@ def case_kill_restart():
     if ck_step >= steps:
         fail("the killed run reached the last step; the kill came too late")
     # The killed run's output stays readable: every step file in its index opens.
-    d = os.path.join(w, "killed", "a.steps")
-    for fn in sorted(glob.glob(os.path.join(d, "*.h5"))):
+    files = step_files(os.path.join(w, "killed", "a"))
+    for fn in files:
         with h5py.File(fn, "r") as f:
             f["/positions"][:]
-    print("killed after checkpoint at step %d; %d output step files readable" % (ck_step, len(os.listdir(d))))
+    print("killed after checkpoint at step %d; %d output step files readable" % (ck_step, len(files)))
     saved = os.path.join(w, "ck.h5")
     shutil.copy(ck, saved)
     run(scramble_args() + ["-steps", str(steps), "-output", os.path.join(w, "killed", "a"), "-output_every", "2",
@@ -125,7 +124,7 @@ def case_failure_policy():
         st = csv_rows(out + ".csv")
         with h5py.File(os.path.join(out, "a.h5"), "r") as f:
             f["/mesh/topology"][:]
-        last = sorted(glob.glob(os.path.join(out, "a.steps", "*.h5")))[-1]
+        last = step_files(os.path.join(out, "a"))[-1]
         with h5py.File(last, "r") as f:
             if not np.all(np.isfinite(f["/positions"][:])):
                 fail("%s: the written state is not finite" % policy)

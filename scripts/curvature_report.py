@@ -11,13 +11,13 @@ the volume ratio. Scale-free, so a uniformly scaled shape has the same variance.
 numpy (run with /usr/bin/python3).
 """
 import argparse
-import glob
 import json
-import os
 import sys
 
 import h5py
 import numpy as np
+
+from aries_output import find_step  # noqa: E402
 
 
 def boundary_faces(tets, X):
@@ -73,11 +73,7 @@ def report(base, step=None):
         tets = f["/mesh/topology"][:].astype(np.int64)
     if tets.shape[1] != 4:
         sys.exit("curvature_report.py: %s is not a tet mesh" % base)
-    d, n = os.path.dirname(base) or ".", os.path.basename(base)
-    steps = sorted(glob.glob(os.path.join(d, n + ".steps", n + "_*.h5")))
-    if not steps:
-        sys.exit("curvature_report.py: no step files for " + base)
-    path = steps[-1] if step is None else os.path.join(d, n + ".steps", "%s_%06d.h5" % (n, step))
+    path = find_step(base, step, "curvature_report.py")
     with h5py.File(path, "r") as f:
         x = f["/positions"][:]
     r, s = stats(tets, rest), stats(tets, x)

@@ -79,11 +79,10 @@ def main():
     pv.Render(view)
     pv.SaveScreenshot(a.png, view, ImageResolution=[w, h])
     if a.check_positions:
-        import glob
         import os
         import h5py
-        d, n = os.path.dirname(a.check_positions) or ".", os.path.basename(a.check_positions)
-        steps = sorted(glob.glob(os.path.join(d, n + ".steps", n + "_*.h5")))
+        from aries_output import step_files
+        steps = step_files(a.check_positions)
         with h5py.File(steps[a.step], "r") as f:
             positions = f["/positions"][:]
         warped = vtk_to_numpy(servermanager.Fetch(warp).GetPoints().GetData())

@@ -18,7 +18,6 @@ The fields present depend on the run's -output_fields (docs/options.md). The vie
 before/after images line up. Needs Debian's python3-h5py and python3-matplotlib (run with /usr/bin/python3).
 """
 import argparse
-import glob
 import os
 import sys
 
@@ -30,6 +29,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib import cm, colors  # noqa: E402
 import numpy as np  # noqa: E402
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
+
+from aries_output import find_step  # noqa: E402
 
 
 def boundary(cells):
@@ -75,13 +76,7 @@ def main():
     with h5py.File(a.base + ".h5", "r") as f:
         cells = f["/mesh/topology"][:].astype(np.int64)
         rest = f["/mesh/rest"][:]
-    d, n = os.path.dirname(a.base) or ".", os.path.basename(a.base)
-    steps = sorted(glob.glob(os.path.join(d, n + ".steps", n + "_*.h5")))
-    if not steps:
-        sys.exit("render_png: error: no output steps for " + a.base)
-    path = steps[-1] if a.step is None else os.path.join(d, n + ".steps", "%s_%06d.h5" % (n, a.step))
-    if not os.path.exists(path):
-        sys.exit("render_png: error: no output step %s (%s)" % (a.step, path))
+    path = find_step(a.base, a.step, "render_png")
     faces, owner = boundary(cells)
     with h5py.File(path, "r") as f:
         x = f["/positions"][:]

@@ -9,12 +9,11 @@ free-floating scenes (an inside-out body may recover rotated). Reads OUTPUT_BASE
 OUTPUT_BASE.xmf (the last step by default). Needs Debian's python3-h5py (run with /usr/bin/python3).
 """
 import argparse
-import glob
-import os
-import sys
 
 import h5py
 import numpy as np
+
+from aries_output import find_step  # noqa: E402
 
 
 def main():
@@ -25,11 +24,7 @@ def main():
     a = ap.parse_args()
     with h5py.File(a.base + ".h5", "r") as f:
         rest = f["/mesh/rest"][:]
-    d, n = os.path.dirname(a.base) or ".", os.path.basename(a.base)
-    steps = sorted(glob.glob(os.path.join(d, n + ".steps", n + "_*.h5")))
-    if not steps:
-        sys.exit("shape_error: no step files for " + a.base)
-    path = steps[-1] if a.step is None else os.path.join(d, n + ".steps", "%s_%06d.h5" % (n, a.step))
+    path = find_step(a.base, a.step, "shape_error")
     with h5py.File(path, "r") as f:
         x = f["/positions"][:]
     err_max, err_rms = shape_error(rest, x, a.rigid)

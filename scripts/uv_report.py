@@ -14,7 +14,6 @@ Prints one JSON object (and writes it with --json). --png draws the UV layout co
 the surface textured with a checkerboard in UV. Needs Debian's python3-h5py and python3-matplotlib.
 """
 import argparse
-import glob
 import json
 import os
 import sys
@@ -27,6 +26,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.collections import PolyCollection  # noqa: E402
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
+
+from aries_output import find_step  # noqa: E402
 
 
 def distortion(rest, uv, tri):
@@ -75,11 +76,7 @@ def main():
         rest = f["/mesh/rest"][:]
     if tri.shape[1] != 3:
         sys.exit("uv_report: not a triangle mesh")
-    d, n = os.path.dirname(a.base) or ".", os.path.basename(a.base)
-    steps = sorted(glob.glob(os.path.join(d, n + ".steps", n + "_*.h5")))
-    if not steps:
-        sys.exit("uv_report: no output steps for " + a.base)
-    path = steps[-1] if a.step is None else os.path.join(d, n + ".steps", "%s_%06d.h5" % (n, a.step))
+    path = find_step(a.base, a.step, "uv_report")
     with h5py.File(path, "r") as f:
         uv = f["/positions"][:, :2]
     stats, angle_d, detJ = distortion(rest, uv, tri)

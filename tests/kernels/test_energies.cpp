@@ -1,4 +1,4 @@
-// Energy identities and invariances (issue items 4 and 5), plus every energy's value against its documented
+// Energy identities and invariances (rotation invariance, the paper Eq. 42 identity iarap = sum of I4 terms), plus every energy's value against its documented
 // definition (material.hpp) evaluated with an SVD:
 //  * iarap == iarap_lin == arap_svd (value, PK1, Hessian) for tets and planar elements, every iarap singularity mode,
 //  * the sum of alx terms over an orthonormal basis (coefficient 2 mu each) == iarap without the volume term,

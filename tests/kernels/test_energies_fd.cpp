@@ -1,4 +1,4 @@
-// Finite-difference tests of PK1 and Hessian for EVERY energy (issue item 1, energy part): all 14 kinds x every
+// Finite-difference tests of PK1 and Hessian for EVERY energy: all 14 kinds x every
 // singularity mode they support x every element shape they support (53 cases), each over the standard F families
 // of test_support.hpp (random, inverted, stretched/compressed, near alpha = 0 at normalized alpha 0.1 / 0.02) plus,
 // per mode, F placed where the singularity fix is active:
@@ -102,7 +102,7 @@ TEST_P(EnergyFD, PK1AndHessianMatchFiniteDifferences) {
 INSTANTIATE_TEST_SUITE_P(AllEnergies, EnergyFD, ::testing::ValuesIn(allEnergyCases()),
                          [](const ::testing::TestParamInfo<EnergyCase> &info) { return caseName(info.param); });
 
-// The case list really covers the issue's matrix: 14 kinds, 53 (kind, shape, mode) combinations.
+// The case list really covers the whole matrix: 14 kinds, 53 (kind, shape, mode) combinations.
 TEST(EnergyFDCoverage, AllKindsShapesAndModes) {
   const auto cases = allEnergyCases();
   EXPECT_EQ(cases.size(), 53u);

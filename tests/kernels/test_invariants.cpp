@@ -1,4 +1,4 @@
-// Finite-difference tests of PK1 and Hessian for every invariant kernel (issue item 1, invariant part):
+// Finite-difference tests of PK1 and Hessian for every invariant kernel:
 //   I_C, II_C, J, III_C, IV_C / V_C / I_8 / VI_C for D = aa^T and for the cross tensor (ab^T + ba^T)/2, I5, I7,
 //   I1 (= f, gradient R), I2, I3, I4, I6 and alpha,
 // for 3x3 (tet), 2x2 (planar) and 3x2 (cloth) F over the standard families of test_support.hpp (random, inverted,

@@ -1,4 +1,4 @@
-// The closed forms against an SVD reference (issue item 3). References come from Eigen::JacobiSVD of the stored F
+// The closed forms against an SVD reference (docs/kernels.md). References come from Eigen::JacobiSVD of the stored F
 // (signedSvd in svd_polar.hpp): f = sum of signed singular values, R = U V^T, I4 = a^T V diag(s) V^T a,
 // I6 = a^T V diag(s) V^T b, alpha = 8(s1+s2)(s1+s3)(s2+s3) (2x2: s1+s2; 3x2: f sqrt(III_C) = (s1+s2) s1 s2 --
 // not the "(s1+s2) sqrt(s1 s2)" printed in the paper's Eq. 30, see alphaFromSigma in test_support.hpp).

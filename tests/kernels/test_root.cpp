@@ -1,4 +1,4 @@
-// Partial derivatives of the root function f up to third order (issue item 2; paper Table 3, Eqs. 107-139), checked
+// Partial derivatives of the root function f up to third order (paper Table 3, Eqs. 107-139), checked
 // against finite differences taken directly in the space of the root invariants y:
 //   3x3: y = (I_C, II_C, J), f = largest real root of p(t) = t^4 - 2 I_C t^2 - 8 J t - I_C^2 + 2 II_C
 //   2x2: y = (I_C, J),       f = sqrt(I_C + 2 J)

@@ -1,4 +1,4 @@
-// The two singularity fixes and the baseline's flaw (issue items 1 (mollifier / barrier part), 7, 8, 9):
+// The two singularity fixes (paper Sec. 4: mollifier, aberration barrier) and the baseline's flaw:
 //  * mollified I4 / I6: FD inside the blend band [eps, 3 eps] and below eps; exactly the proxy below eps and exactly
 //    the raw invariant above 3 eps; C1 (in fact C2) across alpha = eps and alpha = 3 eps along a smooth path,
 //  * aberration barrier: FD inside (0, eps); b, b', b'' vanish at eps; b -> +inf as alpha -> 0+; +inf at alpha <= 0,

@@ -1,4 +1,4 @@
-// Small-strain limit (issue item 6): iarap = mu |F - R|^2 + lambda/2 (J - 1)^2 linearizes to linear elasticity
+// Small-strain limit (docs/energies.md, moduli): iarap = mu |F - R|^2 + lambda/2 (J - 1)^2 linearizes to linear elasticity
 // sigma = 2 mu eps + lambda tr(eps) I with the Lame parameters of (E, nu) (material.hpp's convention).
 //
 // Checked at strain 1e-4 (tension and compression) with E = 1e4, nu = 0.3, to 1%:

@@ -34,7 +34,7 @@ using kernels::Order;
 using kernels::Vec;
 
 constexpr double kEps = std::numeric_limits<double>::epsilon();
-constexpr double kFdTol = 1e-6;                                   // FD acceptance (issue: best relative error)
+constexpr double kFdTol = 1e-6;                                   // FD acceptance: best relative error over the steps below
 constexpr double kFdSteps[] = {1e-4, 1e-5, 1e-6, 1e-7, 1e-8};     // central-difference step sizes
 
 // Deterministic seed from a name (FNV-1a), so each test gets its own but reproducible matrices.
