@@ -372,13 +372,8 @@ PetscErrorCode DiscretizationT<R, C>::setup(Mesh &mesh, double dt) {
     PetscCall(PetscSFBcastEnd(pointSF, MPIU_INT, root.data(), bcFlag.data(), MPI_REPLACE));
     for (PetscInt p = pStart; p < pEnd; ++p) bcFlag[p - pStart] = std::min(bcFlag[p - pStart], root[p - pStart]);
   }
-  std::vector<char> owned(pEnd - pStart, 1);
-  {
-    PetscInt nleaves;
-    const PetscInt *ilocal;
-    PetscCall(PetscSFGetGraph(pointSF, nullptr, &nleaves, &ilocal, nullptr));
-    for (PetscInt i = 0; i < nleaves; ++i) owned[(ilocal ? ilocal[i] : i) - pStart] = 0;
-  }
+  std::vector<char> sharedCopy;  // copies of another rank's points (leaves of the point SF)
+  PetscCall(sharedLeafPoints(dm, &sharedCopy));
 
   // --- section with all components of Dirichlet vertices constrained ---------------------------------------------
   PetscSection section;
@@ -413,7 +408,7 @@ PetscErrorCode DiscretizationT<R, C>::setup(Mesh &mesh, double dt) {
   for (PetscInt v = mesh.vStart; v < mesh.vEnd; ++v) {
     VertexInfo &vi = verts_[v - mesh.vStart];
     PetscCall(PetscSectionGetOffset(localSection, v, &vi.loc));
-    vi.owned = owned[v - pStart];
+    vi.owned = !sharedCopy[v - pStart];
     vi.bcSet = bcFlag[v - pStart] == PETSC_MAX_INT ? -1 : static_cast<int>(bcFlag[v - pStart]);
     vi.rest = restOf(v);
     vi.global = -1;
@@ -430,16 +425,13 @@ PetscErrorCode DiscretizationT<R, C>::setup(Mesh &mesh, double dt) {
   // Clamp centers default to the centroid of each set at rest (owned vertices, all ranks).
   for (size_t s = 0; s < bc_.sets.size(); ++s) {
     if (bc_.sets[s].centerGiven) continue;
-    double acc[4] = {0, 0, 0, 0}, tot[4];
+    CentroidAccumulator acc;
     for (const auto &vi : verts_)
-      if (vi.owned && vi.bcSet == static_cast<int>(s)) {
-        acc[0] += vi.rest[0];
-        acc[1] += vi.rest[1];
-        acc[2] += vi.rest[2];
-        acc[3] += 1.0;
-      }
-    PetscCallMPI(MPI_Allreduce(acc, tot, 4, MPI_DOUBLE, MPI_SUM, comm));
-    if (tot[3] > 0) bc_.sets[s].center = Eigen::Vector3d(tot[0], tot[1], tot[2]) / tot[3];
+      if (vi.owned && vi.bcSet == static_cast<int>(s)) acc.add(vi.rest);
+    Eigen::Vector3d center;
+    double count;
+    PetscCall(acc.reduce(comm, &center, &count));
+    if (count > 0) bc_.sets[s].center = center;
   }
 
   // --- per-cell rest data --------------------------------------------------------------------------------------------
@@ -576,7 +568,7 @@ PetscErrorCode DiscretizationT<R, C>::setup(Mesh &mesh, double dt) {
     PetscCall(PetscSFReduceEnd(pointSF, MPI_DOUBLE, leaf.data(), root.data(), MPI_SUM));
     PetscCall(PetscSFBcastBegin(pointSF, MPI_DOUBLE, root.data(), leaf.data(), MPI_REPLACE));
     PetscCall(PetscSFBcastEnd(pointSF, MPI_DOUBLE, root.data(), leaf.data(), MPI_REPLACE));
-    for (PetscInt v = 0; v < nv; ++v) mass_[v] = owned[mesh.vStart + v - pStart] ? root[mesh.vStart + v - pStart] : leaf[mesh.vStart + v - pStart];
+    for (PetscInt v = 0; v < nv; ++v) mass_[v] = !sharedCopy[mesh.vStart + v - pStart] ? root[mesh.vStart + v - pStart] : leaf[mesh.vStart + v - pStart];
   }
   PetscInt localSize;
   PetscCall(PetscSectionGetStorageSize(localSection, &localSize));

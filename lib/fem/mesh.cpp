@@ -209,17 +209,13 @@ PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh) {
   }
 
   // Cells that are leaves of the point SF belong to another rank (overlap layer).
-  mesh->cellOwned.assign(mesh->cEnd - mesh->cStart, 1);
   {
-    PetscSF pointSF;
-    PetscInt nleaves;
-    const PetscInt *ilocal;
-    PetscCall(DMGetPointSF(mesh->dm, &pointSF));
-    PetscCall(PetscSFGetGraph(pointSF, nullptr, &nleaves, &ilocal, nullptr));
-    for (PetscInt i = 0; i < nleaves; ++i) {
-      const PetscInt p = ilocal ? ilocal[i] : i;
-      if (p >= mesh->cStart && p < mesh->cEnd) mesh->cellOwned[p - mesh->cStart] = 0;
-    }
+    std::vector<char> leaf;
+    PetscInt pStart;
+    PetscCall(sharedLeafPoints(mesh->dm, &leaf));
+    PetscCall(DMPlexGetChart(mesh->dm, &pStart, nullptr));
+    mesh->cellOwned.resize(mesh->cEnd - mesh->cStart);
+    for (PetscInt c = mesh->cStart; c < mesh->cEnd; ++c) mesh->cellOwned[c - mesh->cStart] = !leaf[c - pStart];
   }
 
   // Only simplices.
@@ -418,6 +414,15 @@ PetscErrorCode sharedLeafPoints(DM dm, std::vector<char> *leaf) {
   PetscCall(PetscSFGetGraph(sf, nullptr, &nleaves, &ilocal, nullptr));
   leaf->assign(pEnd - pStart, 0);
   for (PetscInt i = 0; i < nleaves; ++i) (*leaf)[(ilocal ? ilocal[i] : i) - pStart] = 1;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CentroidAccumulator::reduce(MPI_Comm comm, Eigen::Vector3d *centroid, double *count) const {
+  double tot[4];
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Allreduce(sum, tot, 4, MPI_DOUBLE, MPI_SUM, comm));
+  *centroid = tot[3] > 0.0 ? Eigen::Vector3d(Eigen::Vector3d(tot[0], tot[1], tot[2]) / tot[3]) : Eigen::Vector3d::Zero();
+  if (count) *count = tot[3];
   PetscFunctionReturn(0);
 }
 

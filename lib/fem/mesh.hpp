@@ -61,6 +61,17 @@ PetscErrorCode sharedLeafPoints(DM dm, std::vector<char> *leaf);
 // (index v - vStart); on return every copy holds the total. Collective.
 PetscErrorCode sumOverSharedVertices(const Mesh &mesh, int ncomp, std::vector<double> *values);
 
+// The mean of points spread over the ranks (each point added on one rank only): add() locally, then reduce().
+struct CentroidAccumulator {
+  double sum[4] = {0.0, 0.0, 0.0, 0.0};  // x, y, z, count
+  void add(const Eigen::Vector3d &X) {
+    for (int i = 0; i < 3; ++i) sum[i] += X[i];
+    sum[3] += 1.0;
+  }
+  // Collective. `count` (optional) receives the global number of points; with none the centroid is 0.
+  PetscErrorCode reduce(MPI_Comm comm, Eigen::Vector3d *centroid, double *count = nullptr) const;
+};
+
 // Concatenates every rank's `mine` on rank 0, in rank order (`all` is empty elsewhere). Collective.
 PetscErrorCode gatherOnRoot(MPI_Comm comm, const std::vector<double> &mine, std::vector<double> *all);
 

@@ -129,16 +129,10 @@ PetscErrorCode Simulation::applyInitialState() {
   }
   const int R = static_cast<int>(disc_->dofsPerVertex());
   // Rest centroid and measure of the body (vertices are the free ones; the centroid uses all cells).
-  double acc[4] = {0, 0, 0, 0}, tot[4];
-  disc_->forEachOwnedFreeVertex([&](PetscInt, PetscInt, PetscInt, const Eigen::Vector3d &X) {
-    acc[0] += X[0];
-    acc[1] += X[1];
-    acc[2] += X[2];
-    acc[3] += 1.0;
-  });
-  PetscCallMPI(MPI_Allreduce(acc, tot, 4, MPI_DOUBLE, MPI_SUM, comm));
-  const Eigen::Vector3d centroid = tot[3] > 0 ? Eigen::Vector3d(tot[0] / tot[3], tot[1] / tot[3], tot[2] / tot[3])
-                                              : Eigen::Vector3d::Zero();
+  fem::CentroidAccumulator acc;
+  disc_->forEachOwnedFreeVertex([&](PetscInt, PetscInt, PetscInt, const Eigen::Vector3d &X) { acc.add(X); });
+  Eigen::Vector3d centroid;
+  PetscCall(acc.reduce(comm, &centroid));
   PetscInt lo;
   PetscScalar *x;
   PetscCall(VecGetOwnershipRange(x_, &lo, nullptr));
