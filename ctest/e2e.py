@@ -462,8 +462,8 @@ def case_cloth_hang():
 
 def case_cloth_sphere():
     """A cloth dropped on a sphere never penetrates it (nor the ground): every vertex keeps a positive distance at
-    every output step. The Hessian (cells, bending hinges, contact) is fully preallocated: no assembly mallocs
-    (PETSc -info reports the count at every assembly)."""
+    every output step. The Hessian (cells, bending hinges, contact) is fully preallocated: no assembly mallocs, in
+    the matrix nor in the stash of off-rank entries (PETSc -info reports both at every assembly)."""
     tag = "cloth_sphere_np%d" % ARGS.ranks
     center, radius = np.array([0.5, 0.5, -0.3]), 0.25
     log, _ = run(cloth_args(mesh("cloth")) + ["-options_file", os.path.join(ARGS.root, "options", "cloth_drop_ours.yml"),
@@ -475,6 +475,13 @@ def case_cloth_sphere():
         fail("-info :mat reported no matrix assembly: the malloc check did not run")
     if sum(mallocs):
         fail("%d mallocs during Hessian assembly: a coupling is not preallocated" % sum(mallocs))
+    # Entries for rows of another rank: PETSc's stash (scalar and block) must not grow during assembly either.
+    stash = [int(m) for m in re.findall(r"Stash has \d+ entries, ?uses (\d+) mallocs", log)]
+    print("off-rank stash reports: %d, stash mallocs: %d" % (len(stash), sum(stash)))
+    if ARGS.ranks > 1 and not stash:
+        fail("-info :mat reported no stash use on %d ranks: the stash check did not run" % ARGS.ranks)
+    if sum(stash):
+        fail("%d stash mallocs during Hessian assembly: the off-rank buffer is not sized" % sum(stash))
     worst, touched = np.inf, False
     for f in step_files(out_base(tag)):
         with h5py.File(f, "r") as h:

@@ -274,6 +274,7 @@ class DiscretizationT final : public Discretization {
   std::vector<char> fallback_;                     // per cell: barrier -> mollifier (singular elements)
   std::vector<energies::Material> mollified_;      // materials_ with the barrier replaced by the mollifier
   bool blockedAssembly_ = true;
+  bool stashSized_ = false;  // the off-rank assembly buffer sized before the first Hessian assembly
 };
 
 template <int R, int C>
@@ -809,6 +810,15 @@ PetscErrorCode DiscretizationT<R, C>::addSurfaceTermsHessian(const PetscScalar *
       for (int i = 0; i < 4; ++i) xs[i] = Eigen::Map<const Eigen::Vector3d>(x + verts_[h.vertex[i]].loc);
       const auto d = kernels::quadraticBending(h.rest, xs, bending_, kernels::Order::Hessian);
       const Eigen::Matrix<double, 12, 12, Eigen::RowMajor> K = d.hess;
+      if (blockedAssembly_) {  // 3x3 blocks, as the cells: the off-rank ones go through the block stash
+        PetscInt blockRows[4];
+        for (int i = 0; i < 4; ++i) {
+          const auto &vi = verts_[h.vertex[i]];
+          blockRows[i] = vi.bcSet >= 0 ? -1 : vi.global / 3;
+        }
+        PetscCall(MatSetValuesBlocked(J, 4, blockRows, 4, blockRows, K.data(), ADD_VALUES));
+        continue;
+      }
       PetscInt rows[12];
       for (int i = 0; i < 4; ++i) {
         const auto &vi = verts_[h.vertex[i]];
@@ -1019,6 +1029,20 @@ PetscErrorCode DiscretizationT<R, C>::hessian(Vec xLocal, Mat J) {
   PetscInt bs;
   PetscCall(MatGetBlockSize(J, &bs));
   blockedAssembly_ = bs == R;
+  if (!stashSized_) {
+    // Entries for rows another rank owns go through PETSc's stash, which otherwise grows by reallocation during the
+    // first assembly: size it for every off-rank row block the cells and hinges add (an upper bound: all columns).
+    PetscInt blocks = 0;
+    auto offRank = [&](PetscInt v) { return !verts_[v].owned && verts_[v].bcSet < 0; };
+    for (const Cell &cell : cells_)
+      if (cell.owned)
+        for (int v = 0; v < NV; ++v) blocks += offRank(cell.vertex[v]) ? NV : 0;
+    for (const Hinge &h : hinges_)
+      for (PetscInt v : h.vertex) blocks += offRank(v) ? 4 : 0;
+    const PetscInt values = blocks * R * R;
+    PetscCall(MatStashSetInitialSize(J, blockedAssembly_ ? 0 : values, blockedAssembly_ ? values : 0));
+    stashSized_ = true;
+  }
   PetscCall(MatZeroEntries(J));
   PetscCall(VecGetArrayRead(xLocal, &x));
   Eigen::Matrix<double, NDOF, NDOF, Eigen::RowMajor> K;
