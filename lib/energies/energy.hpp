@@ -66,9 +66,9 @@ inline kernels::Derivs<R * C> evaluateEnergy(const Material &m, const CellData<C
       const auto rd = kernels::rootDerivatives(F, chainRuleHessian ? 2 : 1);
       if (m.kind == EnergyKind::IarapLin || stretchFixInactive(m.singularity, rd.root.alpha)) {
         const double w = m.kind == EnergyKind::IarapLin ? m.mu : m.weight3(0, 0);
-        if (filtered && !filter->analytic)
-          return numericFilter(isotropicArapTet(F, rd, w, 2.0 * w, 3.0 * w, m.lambda, 1.0, order));
-        return isotropicArapTet(F, rd, w, 2.0 * w, 3.0 * w, m.lambda, 1.0, order, filtered ? &filter->filter : nullptr);
+        if (filtered && filter->analytic)
+          return isotropicArapTet(F, rd, w, 2.0 * w, 3.0 * w, m.lambda, 1.0, order, &filter->filter);
+        return numericFilter(isotropicArapTet(F, rd, w, 2.0 * w, 3.0 * w, m.lambda, 1.0, order));
       }
     }
   }

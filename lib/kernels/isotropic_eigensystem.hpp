@@ -130,29 +130,41 @@ inline Mat<3, 3> scalingBlock(const Vec<3> &s, const IsotropicPsiDerivatives &ps
   return A;
 }
 
-// The full eigensystem at F = R S (R the analytic rotation of F).
-inline IsotropicEigensystem isotropicEigensystem(const Mat<3, 3> &F, const Mat<3, 3> &R,
-                                                 const IsotropicPsiDerivatives &psi) {
+// The stretch frame at F = R S: the signed stretches s with their eigenvectors V (columns) and, with U = R V, the
+// twist and flip modes (columns: twists (1,2), (2,0), (0,1), then the flips) and D = [vec(u_k v_k^T)], in which a
+// scaling mode with eigenvector w of the scaling block is D w.
+struct IsotropicModes {
   Vec<3> s;
   Mat<3, 3> V;
-  symmetricEigen3Fast(R.transpose() * F, s, V);
-  const Vec<6> tf = twistFlipEigenvalues(s, psi);
-  Vec<3> scaleLam;
-  Mat<3, 3> W;
-  symmetricEigen3(scalingBlock(s, psi), scaleLam, W);
-  IsotropicEigensystem es;
+  Mat<9, 6> twistFlip;
+  Mat<9, 3> D;
+};
+
+inline IsotropicModes isotropicModes(const Mat<3, 3> &F, const Mat<3, 3> &R) {
+  IsotropicModes m;
+  symmetricEigen3Fast(R.transpose() * F, m.s, m.V);
+  const Mat<3, 3> U = R * m.V;
   constexpr double invSqrt2 = 0.70710678118654752440;
   for (int k = 0; k < 3; ++k) {
     const int i = (k + 1) % 3, j = (k + 2) % 3;
-    const Vec<3> RVi = R * V.col(i), RVj = R * V.col(j);  // columns of U = R V
-    const Mat<3, 3> ab = RVi * V.col(j).transpose(), ba = RVj * V.col(i).transpose();
-    es.lambda[k] = tf[k];
-    es.modes.col(k) = flatten<3, 3>(Mat<3, 3>(invSqrt2 * (ab - ba)));
-    es.lambda[3 + k] = tf[3 + k];
-    es.modes.col(3 + k) = flatten<3, 3>(Mat<3, 3>(invSqrt2 * (ab + ba)));
-    es.lambda[6 + k] = scaleLam[k];
-    es.modes.col(6 + k) = flatten<3, 3>(Mat<3, 3>(R * V * W.col(k).asDiagonal() * V.transpose()));
+    const Mat<3, 3> ab = U.col(i) * m.V.col(j).transpose(), ba = U.col(j) * m.V.col(i).transpose();
+    m.twistFlip.col(k) = flatten<3, 3>(Mat<3, 3>(invSqrt2 * (ab - ba)));
+    m.twistFlip.col(3 + k) = flatten<3, 3>(Mat<3, 3>(invSqrt2 * (ab + ba)));
+    m.D.col(k) = flatten<3, 3>(Mat<3, 3>(U.col(k) * m.V.col(k).transpose()));
   }
+  return m;
+}
+
+// The full eigensystem at F = R S (R the analytic rotation of F).
+inline IsotropicEigensystem isotropicEigensystem(const Mat<3, 3> &F, const Mat<3, 3> &R,
+                                                 const IsotropicPsiDerivatives &psi) {
+  const IsotropicModes m = isotropicModes(F, R);
+  Vec<3> scaleLam;
+  Mat<3, 3> W;
+  symmetricEigen3(scalingBlock(m.s, psi), scaleLam, W);
+  IsotropicEigensystem es;
+  es.lambda << twistFlipEigenvalues(m.s, psi), scaleLam;
+  es.modes << m.twistFlip, m.D * W;
   return es;
 }
 
@@ -161,41 +173,24 @@ inline IsotropicEigensystem isotropicEigensystem(const Mat<3, 3> &F, const Mat<3
 // set (s_i + s_j -> 0) the chain rule loses accuracy like eps / alpha^2 (the root's derivatives grow like 1/alpha^k
 // and cancel), the eigensystem only like eps / alpha (measured at alpha_n = 2.3e-3: 1e-9 against 4e-13 relative to a
 // reference built from the exact SVD). Where the scaling block A is positive definite (or nothing is filtered) its
-// three modes enter as D A D^T with D = [vec(u_k v_k^T)], without its eigendecomposition.
+// three modes enter as D A D^T, without its eigendecomposition.
 inline Mat<9, 9> filteredIsotropicHessian(const Mat<3, 3> &F, const Mat<3, 3> &R, const IsotropicPsiDerivatives &psi,
                                           EigenFilter filter) {
-  Vec<3> s;
-  Mat<3, 3> V;
-  symmetricEigen3Fast(R.transpose() * F, s, V);
-  const Vec<6> tf = twistFlipEigenvalues(s, psi);
-  Mat<3, 3> A = scalingBlock(s, psi);
-  const Mat<3, 3> U = R * V;
-  Mat<9, 6> Q;  // twist and flip modes
-  Vec<6> phi;
-  constexpr double invSqrt2 = 0.70710678118654752440;
-  Mat<9, 3> D;  // vec(u_k v_k^T)
-  for (int k = 0; k < 3; ++k) {
-    const int i = (k + 1) % 3, j = (k + 2) % 3;
-    const Mat<3, 3> ab = U.col(i) * V.col(j).transpose(), ba = U.col(j) * V.col(i).transpose();
-    Q.col(k) = flatten<3, 3>(Mat<3, 3>(invSqrt2 * (ab - ba)));
-    Q.col(3 + k) = flatten<3, 3>(Mat<3, 3>(invSqrt2 * (ab + ba)));
-    D.col(k) = flatten<3, 3>(Mat<3, 3>(U.col(k) * V.col(k).transpose()));
-  }
-  for (int m = 0; m < 6; ++m)
-    phi[m] = filter == EigenFilter::Clamp ? std::max(tf[m], 0.0) : filter == EigenFilter::Abs ? std::abs(tf[m]) : tf[m];
+  const IsotropicModes m = isotropicModes(F, R);
+  const Vec<6> phi = filterSpectrum<6>(twistFlipEigenvalues(m.s, psi), filter);
+  Mat<3, 3> A = scalingBlock(m.s, psi);
   // Positive definite 3x3 (leading minors), else filter its eigenvalues like the others.
   const double m2 = A(0, 0) * A(1, 1) - A(0, 1) * A(0, 1);
   if (filter != EigenFilter::None && !(A(0, 0) > 0.0 && m2 > 0.0 && A.determinant() > 0.0)) {
     Vec<3> lam;
     Mat<3, 3> W;
     symmetricEigen3(A, lam, W);
-    lam = filter == EigenFilter::Clamp ? Vec<3>(lam.cwiseMax(0.0)) : Vec<3>(lam.cwiseAbs());
-    A = W * lam.asDiagonal() * W.transpose();
+    A = W * filterSpectrum<3>(lam, filter).asDiagonal() * W.transpose();
   }
-  const Mat<9, 6> Qphi = Q * phi.asDiagonal();
-  const Mat<9, 3> DA = D * A;
-  Mat<9, 9> out = Qphi.lazyProduct(Q.transpose());
-  out.noalias() += DA.lazyProduct(D.transpose());
+  const Mat<9, 6> Qphi = m.twistFlip * phi.asDiagonal();
+  const Mat<9, 3> DA = m.D * A;
+  Mat<9, 9> out = Qphi.lazyProduct(m.twistFlip.transpose());
+  out.noalias() += DA.lazyProduct(m.D.transpose());
   return 0.5 * (out + out.transpose());
 }
 

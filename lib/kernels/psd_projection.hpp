@@ -18,6 +18,14 @@ namespace aries::kernels {
 
 enum class EigenFilter { Clamp, Abs, None };
 
+// The filter applied to a spectrum.
+template <int N>
+inline Vec<N> filterSpectrum(const Vec<N> &lambda, EigenFilter filter) {
+  if (filter == EigenFilter::Clamp) return lambda.cwiseMax(0.0);
+  if (filter == EigenFilter::Abs) return lambda.cwiseAbs();
+  return lambda;
+}
+
 template <int N>
 inline Mat<N, N> filterEigenvalues(const Mat<N, N> &H, EigenFilter filter) {
   const Mat<N, N> Hs = 0.5 * (H + H.transpose());
@@ -29,8 +37,7 @@ inline Mat<N, N> filterEigenvalues(const Mat<N, N> &H, EigenFilter filter) {
   const Vec<N> &lam = eig.eigenvalues();
   if (lam[0] >= 0.0) return Hs;
   const Mat<N, N> &Q = eig.eigenvectors();
-  const Vec<N> filtered = filter == EigenFilter::Abs ? Vec<N>(lam.cwiseAbs()) : Vec<N>(lam.cwiseMax(0.0));
-  return Q * filtered.asDiagonal() * Q.transpose();
+  return Q * filterSpectrum<N>(lam, filter).asDiagonal() * Q.transpose();
 }
 
 // The nearest PSD matrix (eigenvalues clamped at 0).
