@@ -12,35 +12,18 @@
 
 namespace aries::fem {
 
-PetscErrorCode computeCaricatureField(const Mesh &mesh, CaricatureField *field) {
-  MPI_Comm comm;
+namespace {
+
+// Per local vertex, from the boundary faces around it: the cotangent Laplacian sum (3), the area-weighted outward
+// normal (3) and the barycentric area (1), summed over the ranks sharing the vertex.
+constexpr int kFaceSums = 7;
+
+// Boundary faces: one tet globally. Without overlap a face shared by two ranks has one local cell on each, so a face
+// counts only if it is neither a leaf nor a root with leaves of the point SF.
+PetscErrorCode accumulateBoundaryFaces(const Mesh &mesh, const std::vector<Eigen::Vector3d> &X,
+                                       std::vector<double> *accOut) {
   DM dm = mesh.dm;
   PetscFunctionBeginUser;
-  PetscCall(PetscObjectGetComm((PetscObject)dm, &comm));
-  if (mesh.topoDim != 3)
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "energy 'caricature' needs a tetrahedral mesh ('%s' has %d-dimensional cells)",
-            mesh.filename.c_str(), (int)mesh.topoDim);
-  const PetscInt nv = mesh.vEnd - mesh.vStart, nc = mesh.cEnd - mesh.cStart;
-
-  // Rest positions of the local vertices.
-  std::vector<Eigen::Vector3d> X(nv);
-  {
-    Vec coords;
-    PetscSection cs;
-    const PetscScalar *a;
-    PetscCall(DMGetCoordinatesLocal(dm, &coords));
-    PetscCall(DMGetCoordinateSection(dm, &cs));
-    PetscCall(VecGetArrayRead(coords, &a));
-    for (PetscInt v = 0; v < nv; ++v) {
-      PetscInt off;
-      PetscCall(PetscSectionGetOffset(cs, v + mesh.vStart, &off));
-      X[v] = Eigen::Vector3d(a[off], a[off + 1], a[off + 2]);
-    }
-    PetscCall(VecRestoreArrayRead(coords, &a));
-  }
-
-  // Boundary faces: one tet globally. Without overlap a face shared by two ranks has one local cell on each, so
-  // a face counts only if it is neither a leaf nor a root with leaves of the point SF.
   PetscInt pStart, pEnd, fStart, fEnd;
   PetscCall(DMPlexGetChart(dm, &pStart, &pEnd));
   PetscCall(DMPlexGetHeightStratum(dm, 1, &fStart, &fEnd));
@@ -61,9 +44,9 @@ PetscErrorCode computeCaricatureField(const Mesh &mesh, CaricatureField *field) 
     }
   }
 
-  // Per local vertex: cotangent Laplacian sum (3), area-weighted normal (3), barycentric area (1).
-  constexpr int K = 7;
-  std::vector<double> acc(static_cast<size_t>(nv) * K, 0.0);
+  constexpr int K = kFaceSums;
+  std::vector<double> &acc = *accOut;
+  acc.assign(static_cast<size_t>(mesh.vEnd - mesh.vStart) * K, 0.0);
   std::vector<PetscInt> cv, fv;
   for (PetscInt f = fStart; f < fEnd; ++f) {
     PetscInt nsupp;
@@ -101,6 +84,65 @@ PetscErrorCode computeCaricatureField(const Mesh &mesh, CaricatureField *field) 
     }
   }
   PetscCall(sumOverSharedVertices(mesh, K, &acc));
+
+  PetscFunctionReturn(0);
+}
+
+// Per cell: the mean of its vertices' extended curvature and normal; the ratio c = -H / (mean curvature).
+PetscErrorCode cellValues(const Mesh &mesh, const std::vector<double> &values, CaricatureField *field) {
+  const MPI_Comm comm = PetscObjectComm((PetscObject)mesh.dm);
+  const PetscInt nc = mesh.cEnd - mesh.cStart;
+  std::vector<PetscInt> cv;
+  PetscFunctionBeginUser;
+  field->ratio.assign(nc, 0.0);
+  field->normal.assign(nc, Eigen::Vector3d::UnitX());
+  double lo = 1e300, hi = -1e300;
+  PetscInt degenerate = 0;
+  for (PetscInt c = 0; c < nc; ++c) {
+    PetscCall(cellVertices(mesh, c + mesh.cStart, &cv));
+    double H = 0.0;
+    Eigen::Vector3d n = Eigen::Vector3d::Zero();
+    for (PetscInt v : cv) {
+      H += 0.25 * values[v * 4];
+      n += 0.25 * Eigen::Vector3d(values[v * 4 + 1], values[v * 4 + 2], values[v * 4 + 3]);
+    }
+    if (n.norm() < 1e-8) {  // opposite normals cancel deep inside a thin part: no preferred direction
+      if (mesh.cellOwned[c]) ++degenerate;
+      continue;
+    }
+    field->normal[c] = n.normalized();
+    field->ratio[c] = -H / field->meanCurvature;  // sign: see caricature_field.hpp
+    lo = std::min(lo, field->ratio[c]);
+    hi = std::max(hi, field->ratio[c]);
+  }
+  PetscCallMPI(MPI_Allreduce(&lo, &field->minRatio, 1, MPI_DOUBLE, MPI_MIN, comm));
+  PetscCallMPI(MPI_Allreduce(&hi, &field->maxRatio, 1, MPI_DOUBLE, MPI_MAX, comm));
+  PetscCallMPI(MPI_Allreduce(&degenerate, &field->degenerateNormals, 1, MPIU_INT, MPI_SUM, comm));
+  PetscFunctionReturn(0);
+}
+
+}  // namespace
+
+PetscErrorCode computeCaricatureField(const Mesh &mesh, CaricatureField *field) {
+  MPI_Comm comm;
+  DM dm = mesh.dm;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetComm((PetscObject)dm, &comm));
+  if (mesh.topoDim != 3)
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "energy 'caricature' needs a tetrahedral mesh ('%s' has %d-dimensional cells)",
+            mesh.filename.c_str(), (int)mesh.topoDim);
+  const PetscInt nv = mesh.vEnd - mesh.vStart;
+
+  std::vector<Eigen::Vector3d> X;  // rest positions of the local vertices
+  PetscCall(vertexRestPositions(mesh, &X));
+
+  constexpr int K = kFaceSums;
+  std::vector<double> acc;
+  PetscCall(accumulateBoundaryFaces(mesh, X, &acc));
+  std::vector<char> leaf;
+  PetscInt pStart;
+  PetscCall(sharedLeafPoints(dm, &leaf));
+  PetscCall(DMPlexGetChart(dm, &pStart, nullptr));
 
   // Surface vertex values; the object's mean curvature over owned surface vertices.
   HarmonicProblem h;
@@ -152,31 +194,7 @@ PetscErrorCode computeCaricatureField(const Mesh &mesh, CaricatureField *field) 
   h.what = "caricature curvature propagation";
   PetscCall(harmonicExtension(mesh, &h));
 
-  // Per cell.
-  field->ratio.assign(nc, 0.0);
-  field->normal.assign(nc, Eigen::Vector3d::UnitX());
-  double lo = 1e300, hi = -1e300;
-  PetscInt degenerate = 0;
-  for (PetscInt c = 0; c < nc; ++c) {
-    PetscCall(cellVertices(mesh, c + mesh.cStart, &cv));
-    double H = 0.0;
-    Eigen::Vector3d n = Eigen::Vector3d::Zero();
-    for (PetscInt v : cv) {
-      H += 0.25 * h.values[v * 4];
-      n += 0.25 * Eigen::Vector3d(h.values[v * 4 + 1], h.values[v * 4 + 2], h.values[v * 4 + 3]);
-    }
-    if (n.norm() < 1e-8) {  // opposite normals cancel deep inside a thin part: no preferred direction
-      if (mesh.cellOwned[c]) ++degenerate;
-      continue;
-    }
-    field->normal[c] = n.normalized();
-    field->ratio[c] = -H / field->meanCurvature;  // sign: see caricature_field.hpp
-    lo = std::min(lo, field->ratio[c]);
-    hi = std::max(hi, field->ratio[c]);
-  }
-  PetscCallMPI(MPI_Allreduce(&lo, &field->minRatio, 1, MPI_DOUBLE, MPI_MIN, comm));
-  PetscCallMPI(MPI_Allreduce(&hi, &field->maxRatio, 1, MPI_DOUBLE, MPI_MAX, comm));
-  PetscCallMPI(MPI_Allreduce(&degenerate, &field->degenerateNormals, 1, MPIU_INT, MPI_SUM, comm));
+  PetscCall(cellValues(mesh, h.values, field));
   PetscFunctionReturn(0);
 }
 

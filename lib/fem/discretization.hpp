@@ -1,7 +1,9 @@
 // The finite-element discretization: per-vertex position unknowns on the DMPlex, Dirichlet vertices eliminated
 // through constrained section dofs, per-cell rest data cached once (Dm^-1, rest measure, material, anisotropy
 // data), and the assembly of the energy, its gradient and its PSD-projected Hessian (BAIJ) from the closed-form
-// element kernels. One implementation per element shape (tet 3x3, planar 2x2, cloth 3x2), behind this interface.
+// element kernels. One implementation per element shape (tet 3x3, planar 2x2, cloth 3x2), behind this interface
+// (discretization_impl.hpp lists its files); the total potential is a sum of terms (terms/term.hpp): elastic cells,
+// bending hinges, obstacle contact, inertia + gravity.
 //
 // The unknown is the current position x (not the displacement); the global vector holds the free dofs only and a
 // local vector additionally holds ghost and Dirichlet values (fillBoundary writes the latter).
@@ -11,6 +13,7 @@
 #include "fem/boundary.hpp"
 #include "fem/material_options.hpp"
 #include "fem/mesh.hpp"
+#include "fem/step_state.hpp"
 #include "energies/energy.hpp"
 #include "kernels/psd_projection.hpp"
 #include "kernels/stress_measures.hpp"
@@ -23,7 +26,6 @@
 namespace aries::fem {
 
 struct DynamicsTerms {
-  double dt = 0.0;           // 0: static (no inertia)
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
   double density = 1000.0;
 };
@@ -50,22 +52,19 @@ class Discretization {
   double restMeasureGlobal() const { return restMeasure_; }
   const energies::Material &material(int region = 0) const { return materials_[region]; }
   double characteristicModulus() const;  // largest shear-like modulus (for scaling tolerances and reports)
-  DynamicsTerms &dynamics() { return dyn_; }
+  const DynamicsTerms &dynamics() const { return dyn_; }
 
-  // Load parameter of the prescribed motion (0 = rest, 1 = full), and the resulting Dirichlet values.
-  double load() const { return load_; }
-  virtual PetscErrorCode setLoad(double s) = 0;
-  // Time of the state being solved for (static runs: step * dt); drives keyframed shape targets (-target_file).
-  double time() const { return time_; }
-  virtual PetscErrorCode setTime(double t) = 0;
+  // The step being solved for (fem/step_state.hpp): the load parameter of the prescribed motion and the resulting
+  // Dirichlet values, the time (keyframed shape targets, -target_file), and for backward Euler dt and the prediction
+  // x~ of the incremental potential 1/(2 dt^2) |x - x~|_M^2 (gravity enters as -M g . x). Static runs have dt = 0.
+  virtual PetscErrorCode setStep(const StepState &step) = 0;
+  const StepState &step() const { return step_; }
+  double load() const { return step_.load; }
+  double time() const { return step_.time; }
   virtual PetscErrorCode fillBoundary(Vec xLocal) const = 0;
 
   // Rest positions of the free dofs (global vector).
   virtual PetscErrorCode restPositions(Vec xGlobal) const = 0;
-
-  // Inertia: the predicted positions x~ = x_n + dt v_n (global, free dofs) for the incremental potential
-  // 1/(2 dt^2) |x - x~|_M^2; gravity enters as -M g . x. Static runs keep dt = 0.
-  virtual PetscErrorCode setPrediction(Vec xTildeGlobal) = 0;
   virtual PetscErrorCode lumpedMass(Vec massGlobal) const = 0;  // per free dof
 
   // Total potential (elastic + inertia + gravity) and its derivatives at a local state (boundary filled).
@@ -145,8 +144,7 @@ class Discretization {
   std::vector<energies::Material> materials_;
   DynamicsTerms dyn_;
   energies::HessianFilter hessianFilter_;
-  double load_ = 0.0;
-  double time_ = 0.0;
+  StepState step_;
 };
 
 }  // namespace aries::fem

@@ -102,6 +102,116 @@ PetscErrorCode setMetisPartition(DM dm, PetscPartitioner part) {
   PetscFunctionReturn(0);
 }
 
+// The element shape from the cell and space dimensions (-uv_map: triangles in 3D with 2D unknowns); a non-flat
+// triangle surface about to be read in 2D is an error (PETSc would silently drop z).
+PetscErrorCode classifyShape(const GmshFacts &facts, Mesh *mesh) {
+  PetscFunctionBeginUser;
+  // PETSc reads a triangle mesh in 2D unless told otherwise and silently drops z: a curved surface would run flat.
+  PetscBool spaceDimSet = PETSC_FALSE;
+  PetscCall(PetscOptionsHasName(nullptr, nullptr, "-dm_plex_gmsh_spacedim", &spaceDimSet));
+  if (mesh->topoDim == 2 && mesh->spaceDim == 2 && !spaceDimSet && facts.coordinatesKnown &&
+      facts.zRange > 1e-12 * facts.extent) {
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+            "mesh '%s' is a triangle surface that is not flat (z varies by %g) but would be read in 2D with z dropped: "
+            "pass -dm_plex_gmsh_spacedim 3 (cloth, -uv_map), or -dm_plex_gmsh_spacedim 2 to flatten it on purpose",
+            mesh->filename.c_str(), facts.zRange);
+  }
+  PetscBool uvMap = PETSC_FALSE;
+  PetscCall(optionBool(nullptr, "-uv_map", &uvMap, nullptr));
+  if (uvMap && !(mesh->topoDim == 2 && mesh->spaceDim == 3))
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+            "option -uv_map needs a triangle surface in 3D (mesh '%s' has %d-dimensional cells in %d-dimensional "
+            "space; pass -dm_plex_gmsh_spacedim 3)",
+            mesh->filename.c_str(), (int)mesh->topoDim, (int)mesh->spaceDim);
+  mesh->uvMap = uvMap;
+  if (mesh->topoDim == 3 && mesh->spaceDim == 3) mesh->shape = energies::ElementShape::Tet;
+  else if (uvMap) mesh->shape = energies::ElementShape::Planar;  // 2D unknowns, rest from the 3D triangles
+  else if (mesh->topoDim == 2 && mesh->spaceDim == 3) mesh->shape = energies::ElementShape::Cloth;
+  else if (mesh->topoDim == 2 && mesh->spaceDim == 2) mesh->shape = energies::ElementShape::Planar;
+  else
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+            "mesh '%s' has %d-dimensional cells in %d-dimensional space; aries supports tetrahedra in 3D and "
+            "triangles in 2D or 3D (for triangles in 3D pass -dm_plex_gmsh_spacedim 3)",
+            mesh->filename.c_str(), (int)mesh->topoDim, (int)mesh->spaceDim);
+  PetscFunctionReturn(0);
+}
+
+// Natural (serial gmsh-order) ids of the local cells and vertices from the migration SF (leaf -> serial point on
+// rank 0); identity on one rank. Cells that are leaves of the point SF belong to another rank (overlap layer).
+PetscErrorCode numberNaturally(PetscSF migration, PetscInt serialVStart, Mesh *mesh) {
+  PetscFunctionBeginUser;
+  mesh->naturalCell.resize(mesh->cEnd - mesh->cStart);
+  mesh->naturalVertex.resize(mesh->vEnd - mesh->vStart);
+  std::iota(mesh->naturalCell.begin(), mesh->naturalCell.end(), 0);
+  for (PetscInt v = mesh->vStart; v < mesh->vEnd; ++v) mesh->naturalVertex[v - mesh->vStart] = v - serialVStart;
+  if (migration) {
+    PetscInt nroots, nleaves;
+    const PetscInt *ilocal;
+    const PetscSFNode *iremote;
+    PetscCall(PetscSFGetGraph(migration, &nroots, &nleaves, &ilocal, &iremote));
+    for (PetscInt i = 0; i < nleaves; ++i) {
+      const PetscInt p = ilocal ? ilocal[i] : i;
+      const PetscInt orig = iremote[i].index;
+      if (p >= mesh->cStart && p < mesh->cEnd) mesh->naturalCell[p - mesh->cStart] = orig;
+      if (p >= mesh->vStart && p < mesh->vEnd) mesh->naturalVertex[p - mesh->vStart] = orig - serialVStart;
+    }
+    PetscCall(PetscSFDestroy(&migration));
+  }
+  std::vector<char> leaf;
+  PetscInt pStart;
+  PetscCall(sharedLeafPoints(mesh->dm, &leaf));
+  PetscCall(DMPlexGetChart(mesh->dm, &pStart, nullptr));
+  mesh->cellOwned.resize(mesh->cEnd - mesh->cStart);
+  for (PetscInt c = mesh->cStart; c < mesh->cEnd; ++c) mesh->cellOwned[c - mesh->cStart] = !leaf[c - pStart];
+  PetscFunctionReturn(0);
+}
+
+// Only linear simplices (tetrahedra, triangles).
+PetscErrorCode checkSimplices(MPI_Comm comm, const Mesh &mesh) {
+  PetscFunctionBeginUser;
+  bool bad = false;
+  for (PetscInt c = mesh.cStart; c < mesh.cEnd && !bad; ++c) {
+    DMPolytopeType ct;
+    PetscCall(DMPlexGetCellType(mesh.dm, c, &ct));
+    bad = !(ct == DM_POLYTOPE_TETRAHEDRON || ct == DM_POLYTOPE_TRIANGLE);
+  }
+  int anyBad = bad, globalBad = 0;
+  PetscCallMPI(MPI_Allreduce(&anyBad, &globalBad, 1, MPI_INT, MPI_MAX, comm));
+  if (globalBad)
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+            "mesh '%s' contains cells that are not tetrahedra/triangles; aries supports linear simplices only",
+            mesh.filename.c_str());
+  PetscFunctionReturn(0);
+}
+
+// Rest bounding box and its diagonal L.
+PetscErrorCode restBoundingBox(MPI_Comm comm, Mesh *mesh) {
+  PetscFunctionBeginUser;
+  Vec coords;
+  PetscInt n;
+  const PetscScalar *x;
+  PetscCall(DMGetCoordinatesLocal(mesh->dm, &coords));
+  PetscCall(VecGetLocalSize(coords, &n));
+  PetscCall(VecGetArrayRead(coords, &x));
+  double lo[3] = {PETSC_MAX_REAL, PETSC_MAX_REAL, PETSC_MAX_REAL}, hi[3] = {-PETSC_MAX_REAL, -PETSC_MAX_REAL, -PETSC_MAX_REAL};
+  if (mesh->spaceDim == 2) lo[2] = hi[2] = 0.0;
+  for (PetscInt i = 0; i < n; i += mesh->spaceDim)
+    for (int d = 0; d < mesh->spaceDim; ++d) {
+      lo[d] = std::min(lo[d], (double)x[i + d]);
+      hi[d] = std::max(hi[d], (double)x[i + d]);
+    }
+  PetscCall(VecRestoreArrayRead(coords, &x));
+  double glo[3], ghi[3];
+  PetscCallMPI(MPI_Allreduce(lo, glo, 3, MPI_DOUBLE, MPI_MIN, comm));
+  PetscCallMPI(MPI_Allreduce(hi, ghi, 3, MPI_DOUBLE, MPI_MAX, comm));
+  mesh->boxMin = Eigen::Vector3d(glo[0], glo[1], glo[2]);
+  mesh->boxMax = Eigen::Vector3d(ghi[0], ghi[1], ghi[2]);
+  mesh->diagonal = (mesh->boxMax - mesh->boxMin).norm();
+  if (!(mesh->diagonal > 0.0))
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "mesh '%s' has a zero-size bounding box", mesh->filename.c_str());
+  PetscFunctionReturn(0);
+}
+
 }  // namespace
 
 PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh) {
@@ -129,34 +239,11 @@ PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh) {
   PetscCall(DMPlexCreateFromFile(comm, mesh->filename.c_str(), "aries", PETSC_TRUE, &serial));
   PetscCall(DMGetDimension(serial, &mesh->topoDim));
   PetscCall(DMGetCoordinateDim(serial, &mesh->spaceDim));
-  // PETSc reads a triangle mesh in 2D unless told otherwise and silently drops z: a curved surface would run flat.
-  PetscBool spaceDimSet = PETSC_FALSE;
-  PetscCall(PetscOptionsHasName(nullptr, nullptr, "-dm_plex_gmsh_spacedim", &spaceDimSet));
-  if (mesh->topoDim == 2 && mesh->spaceDim == 2 && !spaceDimSet && facts.coordinatesKnown &&
-      facts.zRange > 1e-12 * facts.extent) {
-    PetscCall(DMDestroy(&serial));
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
-            "mesh '%s' is a triangle surface that is not flat (z varies by %g) but would be read in 2D with z dropped: "
-            "pass -dm_plex_gmsh_spacedim 3 (cloth, -uv_map), or -dm_plex_gmsh_spacedim 2 to flatten it on purpose",
-            mesh->filename.c_str(), facts.zRange);
+  {
+    const PetscErrorCode ierr = classifyShape(facts, mesh);
+    if (ierr) PetscCall(DMDestroy(&serial));
+    PetscCall(ierr);
   }
-  PetscBool uvMap = PETSC_FALSE;
-  PetscCall(optionBool(nullptr, "-uv_map", &uvMap, nullptr));
-  if (uvMap && !(mesh->topoDim == 2 && mesh->spaceDim == 3))
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
-            "option -uv_map needs a triangle surface in 3D (mesh '%s' has %d-dimensional cells in %d-dimensional "
-            "space; pass -dm_plex_gmsh_spacedim 3)",
-            mesh->filename.c_str(), (int)mesh->topoDim, (int)mesh->spaceDim);
-  mesh->uvMap = uvMap;
-  if (mesh->topoDim == 3 && mesh->spaceDim == 3) mesh->shape = energies::ElementShape::Tet;
-  else if (uvMap) mesh->shape = energies::ElementShape::Planar;  // 2D unknowns, rest from the 3D triangles
-  else if (mesh->topoDim == 2 && mesh->spaceDim == 3) mesh->shape = energies::ElementShape::Cloth;
-  else if (mesh->topoDim == 2 && mesh->spaceDim == 2) mesh->shape = energies::ElementShape::Planar;
-  else
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
-            "mesh '%s' has %d-dimensional cells in %d-dimensional space; aries supports tetrahedra in 3D and "
-            "triangles in 2D or 3D (for triangles in 3D pass -dm_plex_gmsh_spacedim 3)",
-            mesh->filename.c_str(), (int)mesh->topoDim, (int)mesh->spaceDim);
 
   // Serial vertex numbering start (for natural vertex ids), known on rank 0.
   PetscInt serialVStart = 0, serialVEnd = 0, serialCEnd = 0, tmp = 0;
@@ -189,76 +276,14 @@ PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh) {
   PetscCall(DMPlexGetHeightStratum(mesh->dm, 0, &mesh->cStart, &mesh->cEnd));
   PetscCall(DMPlexGetDepthStratum(mesh->dm, 0, &mesh->vStart, &mesh->vEnd));
 
-  // Natural ids from the migration SF (leaf -> serial point on rank 0); identity on one rank.
-  mesh->naturalCell.resize(mesh->cEnd - mesh->cStart);
-  mesh->naturalVertex.resize(mesh->vEnd - mesh->vStart);
-  std::iota(mesh->naturalCell.begin(), mesh->naturalCell.end(), 0);
-  for (PetscInt v = mesh->vStart; v < mesh->vEnd; ++v) mesh->naturalVertex[v - mesh->vStart] = v - serialVStart;
-  if (migration) {
-    PetscInt nroots, nleaves;
-    const PetscInt *ilocal;
-    const PetscSFNode *iremote;
-    PetscCall(PetscSFGetGraph(migration, &nroots, &nleaves, &ilocal, &iremote));
-    for (PetscInt i = 0; i < nleaves; ++i) {
-      const PetscInt p = ilocal ? ilocal[i] : i;
-      const PetscInt orig = iremote[i].index;
-      if (p >= mesh->cStart && p < mesh->cEnd) mesh->naturalCell[p - mesh->cStart] = orig;
-      if (p >= mesh->vStart && p < mesh->vEnd) mesh->naturalVertex[p - mesh->vStart] = orig - serialVStart;
-    }
-    PetscCall(PetscSFDestroy(&migration));
-  }
-
-  // Cells that are leaves of the point SF belong to another rank (overlap layer).
-  {
-    std::vector<char> leaf;
-    PetscInt pStart;
-    PetscCall(sharedLeafPoints(mesh->dm, &leaf));
-    PetscCall(DMPlexGetChart(mesh->dm, &pStart, nullptr));
-    mesh->cellOwned.resize(mesh->cEnd - mesh->cStart);
-    for (PetscInt c = mesh->cStart; c < mesh->cEnd; ++c) mesh->cellOwned[c - mesh->cStart] = !leaf[c - pStart];
-  }
-
-  // Only simplices.
-  bool bad = false;
-  for (PetscInt c = mesh->cStart; c < mesh->cEnd && !bad; ++c) {
-    DMPolytopeType ct;
-    PetscCall(DMPlexGetCellType(mesh->dm, c, &ct));
-    bad = !(ct == DM_POLYTOPE_TETRAHEDRON || ct == DM_POLYTOPE_TRIANGLE);
-  }
-  int anyBad = bad, globalBad = 0;
-  PetscCallMPI(MPI_Allreduce(&anyBad, &globalBad, 1, MPI_INT, MPI_MAX, comm));
-  if (globalBad)
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
-            "mesh '%s' contains cells that are not tetrahedra/triangles; aries supports linear simplices only",
-            mesh->filename.c_str());
+  PetscCall(numberNaturally(migration, serialVStart, mesh));  // destroys the migration SF
+  PetscCall(checkSimplices(comm, *mesh));
 
   // PETSc's mesh viewer (-dm_view[ :file:format], e.g. -dm_view ::ascii_info_detail or -dm_view hdf5:mesh.h5) on the
   // distributed mesh.
   PetscCall(DMViewFromOptions(mesh->dm, nullptr, "-dm_view"));
 
-  // Rest bounding box and its diagonal L.
-  Vec coords;
-  PetscInt n;
-  const PetscScalar *x;
-  PetscCall(DMGetCoordinatesLocal(mesh->dm, &coords));
-  PetscCall(VecGetLocalSize(coords, &n));
-  PetscCall(VecGetArrayRead(coords, &x));
-  double lo[3] = {PETSC_MAX_REAL, PETSC_MAX_REAL, PETSC_MAX_REAL}, hi[3] = {-PETSC_MAX_REAL, -PETSC_MAX_REAL, -PETSC_MAX_REAL};
-  if (mesh->spaceDim == 2) lo[2] = hi[2] = 0.0;
-  for (PetscInt i = 0; i < n; i += mesh->spaceDim)
-    for (int d = 0; d < mesh->spaceDim; ++d) {
-      lo[d] = std::min(lo[d], (double)x[i + d]);
-      hi[d] = std::max(hi[d], (double)x[i + d]);
-    }
-  PetscCall(VecRestoreArrayRead(coords, &x));
-  double glo[3], ghi[3];
-  PetscCallMPI(MPI_Allreduce(lo, glo, 3, MPI_DOUBLE, MPI_MIN, comm));
-  PetscCallMPI(MPI_Allreduce(hi, ghi, 3, MPI_DOUBLE, MPI_MAX, comm));
-  mesh->boxMin = Eigen::Vector3d(glo[0], glo[1], glo[2]);
-  mesh->boxMax = Eigen::Vector3d(ghi[0], ghi[1], ghi[2]);
-  mesh->diagonal = (mesh->boxMax - mesh->boxMin).norm();
-  if (!(mesh->diagonal > 0.0))
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "mesh '%s' has a zero-size bounding box", mesh->filename.c_str());
+  PetscCall(restBoundingBox(comm, mesh));
   PetscFunctionReturn(0);
 }
 
@@ -483,5 +508,24 @@ PetscErrorCode cellVertices(const Mesh &mesh, PetscInt c, std::vector<PetscInt> 
   PetscCall(DMPlexRestoreTransitiveClosure(mesh.dm, c, PETSC_TRUE, &ncl, &closure));
   PetscFunctionReturn(0);
 }
+
+PetscErrorCode vertexRestPositions(const Mesh &mesh, std::vector<Eigen::Vector3d> *rest) {
+  Vec coordsLocal;
+  PetscSection coordSection;
+  const PetscScalar *coords;
+  PetscFunctionBeginUser;
+  PetscCall(DMGetCoordinatesLocal(mesh.dm, &coordsLocal));
+  PetscCall(DMGetCoordinateSection(mesh.dm, &coordSection));
+  PetscCall(VecGetArrayRead(coordsLocal, &coords));
+  rest->assign(mesh.vEnd - mesh.vStart, Eigen::Vector3d::Zero());
+  for (PetscInt v = mesh.vStart; v < mesh.vEnd; ++v) {
+    PetscInt off;
+    PetscCall(PetscSectionGetOffset(coordSection, v, &off));
+    for (int d = 0; d < mesh.spaceDim; ++d) (*rest)[v - mesh.vStart][d] = coords[off + d];
+  }
+  PetscCall(VecRestoreArrayRead(coordsLocal, &coords));
+  PetscFunctionReturn(0);
+}
+
 
 }  // namespace aries::fem

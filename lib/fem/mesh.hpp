@@ -56,6 +56,8 @@ PetscErrorCode describePhysicalGroups(const Mesh &mesh, std::string *text);
 // Flags (indexed p - pStart over the chart) of the points this rank holds as copies of another rank's points
 // (leaves of the point SF). Not collective.
 PetscErrorCode sharedLeafPoints(DM dm, std::vector<char> *leaf);
+// Rest position of every local vertex (index v - vStart), zero-padded to 3D.
+PetscErrorCode vertexRestPositions(const Mesh &mesh, std::vector<Eigen::Vector3d> *rest);
 
 // Sums per-vertex contributions over all ranks that hold the vertex: `values` holds `ncomp` numbers per local vertex
 // (index v - vStart); on return every copy holds the total. Collective.

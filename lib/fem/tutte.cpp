@@ -12,37 +12,19 @@
 
 namespace aries::fem {
 
+namespace {
 
-PetscErrorCode tutteEmbedding(const Mesh &mesh, std::vector<Eigen::Vector2d> *uv) {
-  MPI_Comm comm;
-  PetscMPIInt rank;
+// Boundary edges (owned, one triangle) as (natural v0, natural v1, length) triples.
+PetscErrorCode boundaryEdges(const Mesh &mesh, std::vector<double> *mine) {
   DM dm = mesh.dm;
+  PetscInt pStart, eStart, eEnd;
   PetscFunctionBeginUser;
-  PetscCall(PetscObjectGetComm((PetscObject)dm, &comm));
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (mesh.topoDim != 2)
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "-initial tutte needs a triangle surface mesh ('%s' has %d-dimensional cells)",
-            mesh.filename.c_str(), (int)mesh.topoDim);
-  PetscInt pStart, pEnd, eStart, eEnd;
-  PetscCall(DMPlexGetChart(dm, &pStart, &pEnd));
+  PetscCall(DMPlexGetChart(dm, &pStart, nullptr));
   PetscCall(DMPlexGetDepthStratum(dm, 1, &eStart, &eEnd));
   std::vector<char> leaf;
   PetscCall(sharedLeafPoints(dm, &leaf));
-  Vec coords;
-  PetscSection cs;
-  const PetscScalar *X;
-  PetscCall(DMGetCoordinatesLocal(dm, &coords));
-  PetscCall(DMGetCoordinateSection(dm, &cs));
-  PetscCall(VecGetArrayRead(coords, &X));
-  auto restOf = [&](PetscInt v) {
-    PetscInt off;
-    PetscSectionGetOffset(cs, v, &off);
-    return Eigen::Vector3d(X[off], X[off + 1], mesh.spaceDim == 3 ? X[off + 2] : 0.0);
-  };
-
-  // Boundary edges (owned, one triangle) as (natural v0, natural v1, length), gathered on rank 0.
-  std::vector<double> mine;
-  std::map<PetscInt, Eigen::Vector3d> boundaryRest;
+  std::vector<Eigen::Vector3d> rest;
+  PetscCall(vertexRestPositions(mesh, &rest));
   for (PetscInt e = eStart; e < eEnd; ++e) {
     if (leaf[e - pStart]) continue;
     PetscInt nsupp;
@@ -62,55 +44,75 @@ PetscErrorCode tutteEmbedding(const Mesh &mesh, std::vector<Eigen::Vector2d> *uv
     for (int i = 0; i < 3; ++i)
       if (cv[i] == cone[1] && cv[(i + 1) % 3] == cone[0]) std::swap(from, to);
     const PetscInt a = mesh.naturalVertex[from - mesh.vStart], b = mesh.naturalVertex[to - mesh.vStart];
-    mine.insert(mine.end(), {(double)a, (double)b, (restOf(from) - restOf(to)).norm()});
+    mine->insert(mine->end(), {(double)a, (double)b, (rest[from - mesh.vStart] - rest[to - mesh.vStart]).norm()});
   }
-  PetscCall(VecRestoreArrayRead(coords, &X));
-  std::vector<double> all;
+  PetscFunctionReturn(0);
+}
+
+// Rank 0: walks the boundary loop and places it on a circle by arc length (or says why the mesh is not a disk).
+void placeBoundaryLoop(const Mesh &mesh, const std::vector<double> &all, std::vector<double> *placedOut,
+                       std::string *errorOut) {
+  std::vector<double> &placed = *placedOut;
+  std::string &error = *errorOut;
+  std::map<PetscInt, std::pair<PetscInt, double>> next;  // directed boundary edge a -> (b, length)
+  std::map<PetscInt, int> outDeg, inDeg;
+  for (size_t i = 0; i < all.size(); i += 3) {
+    const auto a = static_cast<PetscInt>(all[i]), b = static_cast<PetscInt>(all[i + 1]);
+    next[a] = {b, all[i + 2]};
+    outDeg[a]++;
+    inDeg[b]++;
+  }
+  for (const auto &kv : outDeg)
+    if ((kv.second != 1 || inDeg[kv.first] != 1) && error.empty()) {
+      std::ostringstream o;
+      o << "mesh '" << mesh.filename << "' is not a disk: boundary vertex " << kv.first
+        << " starts or ends more than one boundary edge (-initial tutte and -uv_map need one simple boundary loop)";
+      error = o.str();
+    }
+  if (next.empty() && error.empty())
+    error = "mesh '" + mesh.filename + "' has no boundary: -initial tutte needs a disk-topology surface";
+  if (error.empty()) {
+    std::vector<std::pair<PetscInt, double>> loop;  // (vertex, arc length at it)
+    PetscInt cur = next.begin()->first;
+    double s = 0.0;
+    do {
+      loop.push_back({cur, s});
+      s += next[cur].second;
+      cur = next[cur].first;
+    } while (cur != loop.front().first && loop.size() <= next.size() && next.count(cur));
+    if (loop.size() != next.size() || cur != loop.front().first) {
+      std::ostringstream o;
+      o << "mesh '" << mesh.filename << "' has " << next.size() << " boundary vertices but its first boundary loop "
+        << "has " << loop.size() << ": more than one loop (holes); -initial tutte needs a disk";
+      error = o.str();
+    }
+    const double radius = s / (2.0 * M_PI);
+    for (const auto &[v, sv] : loop) {
+      const double t = 2.0 * M_PI * sv / s;
+      placed.insert(placed.end(), {(double)v, radius * std::cos(t), radius * std::sin(t)});
+    }
+  }
+}
+
+}  // namespace
+
+PetscErrorCode tutteEmbedding(const Mesh &mesh, std::vector<Eigen::Vector2d> *uv) {
+  MPI_Comm comm;
+  PetscMPIInt rank;
+  DM dm = mesh.dm;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetComm((PetscObject)dm, &comm));
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (mesh.topoDim != 2)
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "-initial tutte needs a triangle surface mesh ('%s' has %d-dimensional cells)",
+            mesh.filename.c_str(), (int)mesh.topoDim);
+  std::vector<double> mine, all;
+  PetscCall(boundaryEdges(mesh, &mine));
   PetscCall(gatherOnRoot(comm, mine, &all));
 
-  // Rank 0: walk the loop, place it on a circle.
   std::vector<double> placed;  // (natural id, u, v) triples
   std::string error;
-  if (rank == 0) {
-    std::map<PetscInt, std::pair<PetscInt, double>> next;  // directed boundary edge a -> (b, length)
-    std::map<PetscInt, int> outDeg, inDeg;
-    for (size_t i = 0; i < all.size(); i += 3) {
-      const auto a = static_cast<PetscInt>(all[i]), b = static_cast<PetscInt>(all[i + 1]);
-      next[a] = {b, all[i + 2]};
-      outDeg[a]++;
-      inDeg[b]++;
-    }
-    for (const auto &kv : outDeg)
-      if ((kv.second != 1 || inDeg[kv.first] != 1) && error.empty()) {
-        std::ostringstream o;
-        o << "mesh '" << mesh.filename << "' is not a disk: boundary vertex " << kv.first
-          << " starts or ends more than one boundary edge (-initial tutte and -uv_map need one simple boundary loop)";
-        error = o.str();
-      }
-    if (next.empty() && error.empty())
-      error = "mesh '" + mesh.filename + "' has no boundary: -initial tutte needs a disk-topology surface";
-    if (error.empty()) {
-      std::vector<std::pair<PetscInt, double>> loop;  // (vertex, arc length at it)
-      PetscInt cur = next.begin()->first;
-      double s = 0.0;
-      do {
-        loop.push_back({cur, s});
-        s += next[cur].second;
-        cur = next[cur].first;
-      } while (cur != loop.front().first && loop.size() <= next.size() && next.count(cur));
-      if (loop.size() != next.size() || cur != loop.front().first) {
-        std::ostringstream o;
-        o << "mesh '" << mesh.filename << "' has " << next.size() << " boundary vertices but its first boundary loop "
-          << "has " << loop.size() << ": more than one loop (holes); -initial tutte needs a disk";
-        error = o.str();
-      }
-      const double radius = s / (2.0 * M_PI);
-      for (const auto &[v, sv] : loop) {
-        const double t = 2.0 * M_PI * sv / s;
-        placed.insert(placed.end(), {(double)v, radius * std::cos(t), radius * std::sin(t)});
-      }
-    }
-  }
+  if (rank == 0) placeBoundaryLoop(mesh, all, &placed, &error);
   PetscCall(collectiveCheck(comm, !error.empty(), error));
   int np = static_cast<int>(placed.size());
   PetscCallMPI(MPI_Bcast(&np, 1, MPI_INT, 0, comm));

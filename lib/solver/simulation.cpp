@@ -91,15 +91,15 @@ PetscErrorCode Simulation::setup(fem::Discretization &disc, const SimulationOpti
   opts_ = opts;
   PetscCall(PetscObjectGetComm((PetscObject)disc.dm(), &comm));
   const bool dynamic = opts.integrator == Integrator::BackwardEuler;
-  disc.dynamics().dt = dynamic ? opts.dt : 0.0;
   PetscCall(newton_.setup(disc, dynamic, opts.dt));
   PetscCall(DMCreateGlobalVector(disc.dm(), &x_));
   PetscCall(PetscObjectSetName((PetscObject)x_, "positions"));
   for (Vec *v : {&v_, &xPrev_, &vPrev_, &xTilde_}) PetscCall(VecDuplicate(x_, v));
   PetscCall(VecSet(v_, 0.0));
   PetscCall(disc.restPositions(x_));
-  PetscCall(disc.setLoad(0.0));
-  PetscCall(disc.setTime(0.0));
+  fem::StepState start;
+  start.dt = dynamic ? opts.dt : 0.0;
+  PetscCall(disc.setStep(start));
   PetscCall(applyInitialState());
   PetscCall(PetscLogStageGetId("solve", &solveStage_));
   if (solveStage_ < 0) PetscCall(PetscLogStageRegister("solve", &solveStage_));
@@ -182,8 +182,10 @@ PetscErrorCode Simulation::resume(const std::vector<double> &positions, const st
   });
   PetscCall(VecRestoreArray(x_, &x));
   PetscCall(VecRestoreArray(v_, &v));
-  PetscCall(disc_->setLoad(load));
-  PetscCall(disc_->setTime(time));
+  fem::StepState resumed = disc_->step();
+  resumed.load = load;
+  resumed.time = time;
+  PetscCall(disc_->setStep(resumed));
   completedSteps_ = completedStep;
   time_ = time;
   PetscFunctionReturn(0);
@@ -223,6 +225,15 @@ PetscErrorCode Simulation::startFromPrediction() {
 
 // Newton solves from the current state to the prescribed load `loadTarget`, halving the load increment while
 // moving the Dirichlet vertices would violate the alpha safeguard.
+// Moves the prescribed motion of the step being solved for to load parameter s.
+PetscErrorCode Simulation::setLoad(double s) {
+  PetscFunctionBeginUser;
+  fem::StepState step = disc_->step();
+  step.load = s;
+  PetscCall(disc_->setStep(step));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode Simulation::solveToLoad(double loadTarget, NewtonResult *acc, bool *ok, std::string *reason) {
   PetscFunctionBeginUser;
   *ok = true;
@@ -235,13 +246,13 @@ PetscErrorCode Simulation::solveToLoad(double loadTarget, NewtonResult *acc, boo
       bool acceptable = false;
       for (PetscInt k = 0; k <= opts_.maxLoadHalvings && !acceptable; ++k) {
         if (k > 0) sTry = s0 + 0.5 * (sTry - s0);
-        PetscCall(disc_->setLoad(sTry));
+        PetscCall(setLoad(sTry));
         PetscCall(newton_.alphaAcceptable(x_, ref, &acceptable));
       }
       // No increment of the prescribed motion keeps every alpha acceptable (or the sub-steps do not finish):
       // the boundary motion cannot be followed within the safeguard.
       if (!acceptable || sub >= kMaxLoadSubsteps) {
-        PetscCall(disc_->setLoad(s0));
+        PetscCall(setLoad(s0));
         *ok = false;
         *reason = "safeguard_load";
         PetscFunctionReturn(0);
@@ -267,17 +278,22 @@ PetscErrorCode Simulation::advance(double dt, double loadTarget, int depth, Newt
                                    std::string *reason) {
   const bool dynamic = opts_.integrator == Integrator::BackwardEuler;
   PetscFunctionBeginUser;
-  const double load0 = disc_->load(), time0 = disc_->time();
-  PetscCall(disc_->setTime(time0 + dt));  // time-dependent material data (keyframed shape targets) at the step's end
+  // The trial step: the accepted state's load (the load increment follows in solveToLoad), time-dependent material
+  // data (keyframed shape targets) at the step's end, and for backward Euler dt and the prediction. A failed attempt
+  // hands `accepted` back.
+  const fem::StepState accepted = disc_->step();
+  fem::StepState trial = accepted;
+  trial.time = accepted.time + dt;
   PetscCall(VecCopy(x_, xPrev_));
   PetscCall(VecCopy(v_, vPrev_));
   if (dynamic) {
-    disc_->dynamics().dt = dt;
+    trial.dt = dt;
     PetscCall(newton_.setTimeStep(dt));
     PetscCall(VecWAXPY(xTilde_, dt, v_, x_));  // x~ = x_n + dt v_n
-    PetscCall(disc_->setPrediction(xTilde_));
-    if (opts_.predictorStart) PetscCall(startFromPrediction());
+    trial.prediction = xTilde_;
   }
+  PetscCall(disc_->setStep(trial));
+  if (dynamic && opts_.predictorStart) PetscCall(startFromPrediction());
   {
     Vec xLocal;
     PetscInt fallback = 0;
@@ -302,15 +318,11 @@ PetscErrorCode Simulation::advance(double dt, double loadTarget, int depth, Newt
     const std::string failed = *reason;
     PetscCall(VecCopy(xPrev_, x_));
     PetscCall(VecCopy(vPrev_, v_));
-    PetscCall(disc_->setLoad(load0));
-    PetscCall(disc_->setTime(time0));
-    const double mid = 0.5 * (load0 + loadTarget);
+    PetscCall(disc_->setStep(accepted));
+    const double mid = 0.5 * (accepted.load + loadTarget);
     PetscCall(advance(0.5 * dt, mid, depth + 1, acc, ok, reason));
     if (*ok) PetscCall(advance(0.5 * dt, loadTarget, depth + 1, acc, ok, reason));
-    if (dynamic) {
-      disc_->dynamics().dt = opts_.dt;
-      PetscCall(newton_.setTimeStep(opts_.dt));
-    }
+    if (dynamic) PetscCall(newton_.setTimeStep(opts_.dt));
     // The stats keep why the step was split: "<final reason>|halved:<failure>" (nested halvings keep the first).
     if (reason->find("|halved:") == std::string::npos) *reason += "|halved:" + failed;
     PetscFunctionReturn(0);
@@ -325,14 +337,13 @@ PetscErrorCode Simulation::advance(double dt, double loadTarget, int depth, Newt
       PetscCall(VecWAXPY(v_, -1.0, xPrev_, x_));
       PetscCall(VecScale(v_, 1.0 / dt));
     }
-    PetscCall(disc_->setLoad(loadTarget));
+    PetscCall(setLoad(loadTarget));
     PetscFunctionReturn(0);
   }
   // Stop: restore the last accepted state so the output is a valid state.
   PetscCall(VecCopy(xPrev_, x_));
   PetscCall(VecCopy(vPrev_, v_));
-  PetscCall(disc_->setLoad(load0));
-  PetscCall(disc_->setTime(time0));
+  PetscCall(disc_->setStep(accepted));
   PetscFunctionReturn(0);
 }
 

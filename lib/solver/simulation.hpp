@@ -91,6 +91,7 @@ class Simulation {
   PetscErrorCode applyInitialState();
   PetscErrorCode advance(double dt, double loadTarget, int depth, NewtonResult *acc, bool *ok, std::string *reason);
   PetscErrorCode startFromPrediction();
+  PetscErrorCode setLoad(double s);
   PetscErrorCode solveToLoad(double loadTarget, NewtonResult *acc, bool *ok, std::string *reason);
 
   fem::Discretization *disc_ = nullptr;

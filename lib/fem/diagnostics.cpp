@@ -1,0 +1,295 @@
+// What a state looks like beyond its energy: per-cell alpha, guard, energy density, stress measures and regions; the
+// barrier mode's fallback; reactions on the Dirichlet sets; the largest displacement; and the gathers of vertex and
+// cell fields in natural (gmsh) order on rank 0 for output.
+#include "fem/discretization_impl.hpp"
+
+#include <cmath>
+
+namespace aries::fem {
+
+PetscErrorCode gatherNatural(MPI_Comm comm, const std::vector<PetscInt> &ids, const std::vector<double> &vals,
+                             int comps, PetscInt total, std::vector<double> *out, bool sum) {
+  PetscMPIInt rank;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  std::vector<double> mine, all;  // per entry: id (exact as a double below 2^53), then its values
+  mine.reserve(ids.size() * (comps + 1));
+  for (size_t i = 0; i < ids.size(); ++i) {
+    mine.push_back(static_cast<double>(ids[i]));
+    mine.insert(mine.end(), vals.begin() + i * comps, vals.begin() + (i + 1) * comps);
+  }
+  PetscCall(gatherOnRoot(comm, mine, &all));
+  out->clear();
+  if (rank == 0) {
+    out->assign(static_cast<size_t>(total) * comps, 0.0);
+    for (size_t e = 0; e < all.size(); e += comps + 1) {
+      double *dst = &(*out)[static_cast<size_t>(all[e]) * comps];
+      for (int k = 0; k < comps; ++k) dst[k] = sum ? dst[k] + all[e + 1 + k] : all[e + 1 + k];
+    }
+  }
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::updateBarrierFallback(Vec xLocal, double threshold, PetscInt *count) {
+  PetscFunctionBeginUser;
+  bool anyBarrier = false;
+  for (const auto &m : materials_) anyBarrier = anyBarrier || m.singularity.mode == energies::SingularityMode::Barrier;
+  PetscInt local = 0;
+  if (anyBarrier) {
+    std::vector<double> alpha;
+    PetscCall(cellAlpha(xLocal, &alpha));
+    local = cells_.updateBarrierFallback(alpha, threshold);
+  }
+  PetscCallMPI(MPI_Allreduce(&local, count, 1, MPIU_INT, MPI_SUM, comm()));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::barrierActiveCells(Vec xLocal, PetscInt *count) const {
+  const PetscScalar *x;
+  PetscFunctionBeginUser;
+  PetscInt local = 0;
+  PetscCall(VecGetArrayRead(xLocal, &x));
+  for (size_t c = 0; c < cells_.size(); ++c) {
+    const energies::Material &m = cells_.materialOf(c);
+    if (!cells_.cells()[c].owned || m.singularity.mode != energies::SingularityMode::Barrier ||
+        !energies::energyContainsStretchInvariant(m.kind))
+      continue;
+    const double a = energies::elementAlpha<R, C>(cells_.deformationGradient(c, x));
+    local += a > 0.0 && a < m.singularity.barrier.eps;
+  }
+  PetscCall(VecRestoreArrayRead(xLocal, &x));
+  PetscCallMPI(MPI_Allreduce(&local, count, 1, MPIU_INT, MPI_SUM, comm()));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+void DiscretizationT<R, C>::mollifierBandTop(std::vector<double> *top) const {
+  top->resize(cells_.size());
+  for (size_t c = 0; c < cells_.size(); ++c) {
+    const energies::Material &m = cells_.materialOf(c);
+    const bool mollified = m.singularity.mode == energies::SingularityMode::Mollifier &&
+                           energies::energyContainsStretchInvariant(m.kind);
+    (*top)[c] = mollified ? m.singularity.mollifier.eps : 0.0;
+  }
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::cellAlpha(Vec xLocal, std::vector<double> *alpha) const {
+  const PetscScalar *x;
+  PetscFunctionBeginUser;
+  alpha->resize(cells_.size());
+  PetscCall(VecGetArrayRead(xLocal, &x));
+  for (size_t c = 0; c < cells_.size(); ++c) (*alpha)[c] = energies::elementAlpha<R, C>(cells_.deformationGradient(c, x));
+  PetscCall(VecRestoreArrayRead(xLocal, &x));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::cellGuard(Vec xLocal, std::vector<double> *guard) const {
+  PetscFunctionBeginUser;
+  PetscCall(cellAlpha(xLocal, guard));
+  if constexpr (R == 2 && C == 2) {
+    if (keepOrientation_) {
+      const PetscScalar *x;
+      PetscCall(VecGetArrayRead(xLocal, &x));
+      for (size_t c = 0; c < cells_.size(); ++c)
+        (*guard)[c] = std::min((*guard)[c], cells_.deformationGradient(c, x).determinant());
+      PetscCall(VecRestoreArrayRead(xLocal, &x));
+    }
+  }
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::cellQuantities(Vec xLocal, CellQuantities *q) const {
+  const PetscScalar *x;
+  PetscFunctionBeginUser;
+  q->alpha.resize(cells_.size());
+  q->energyDensity.resize(cells_.size());
+  PetscCall(VecGetArrayRead(xLocal, &x));
+  for (size_t c = 0; c < cells_.size(); ++c) {
+    q->alpha[c] = energies::elementAlpha<R, C>(cells_.deformationGradient(c, x));
+    q->energyDensity[c] = cells_.energyDensity(c, x);
+  }
+  PetscCall(VecRestoreArrayRead(xLocal, &x));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::cellStressMeasures(Vec xLocal, std::vector<kernels::StressMeasures> *out) const {
+  const PetscScalar *x;
+  PetscFunctionBeginUser;
+  out->resize(cells_.size());
+  PetscCall(VecGetArrayRead(xLocal, &x));
+  for (size_t c = 0; c < cells_.size(); ++c) {
+    const Cell &cell = cells_.cells()[c];
+    kernels::Mat<3, C> Frest = kernels::Mat<3, C>::Zero();  // the cell's chart -> rest shape (orthonormal columns)
+    for (int v = 0; v < NV; ++v) Frest += verts_[cell.vertex[v]].rest * cell.W.row(v);
+    const kernels::Mat<R, C> F = cells_.deformationGradient(c, x);
+    const auto d =
+        energies::evaluateEnergy<R, C>(cells_.materialOf(c), cells_.dataOf(c), F, kernels::Order::Gradient);
+    (*out)[c] = kernels::stressMeasures<R, C>(F, kernels::unflatten<R, C>(d.grad), Frest);
+  }
+  PetscCall(VecRestoreArrayRead(xLocal, &x));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+void DiscretizationT<R, C>::cellRegions(std::vector<double> *regions) const {
+  regions->resize(cells_.size());
+  for (size_t c = 0; c < cells_.size(); ++c) (*regions)[c] = cells_.cells()[c].region;
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::gatherVertexReactions(Vec xLocal, std::vector<double> *values) const {
+  PetscFunctionBeginUser;
+  Vec g;
+  PetscCall(VecDuplicate(xLocal, &g));
+  PetscCall(gradient(xLocal, g));  // each rank: its own cells' share at every local vertex (summed by the gather)
+  PetscCall(gatherLocalVertexValues(g, [](const VertexInfo &vi) { return vi.bcSet >= 0; }, true, values));
+  PetscCall(VecDestroy(&g));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::gatherVertexMarkers(std::vector<double> *values) const {
+  PetscFunctionBeginUser;
+  PetscCall(gatherOwnedVertices(1, [&](size_t v, double *out) { out[0] = verts_[v].bcSet + 1.0; }, values));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::gatherOwnedVertices(int comps, const std::function<void(size_t, double *)> &value,
+                                                          std::vector<double> *values) const {
+  PetscFunctionBeginUser;
+  std::vector<PetscInt> ids;
+  std::vector<double> vals, one(comps);
+  for (size_t v = 0; v < verts_.size(); ++v) {
+    if (!verts_[v].owned) continue;
+    ids.push_back(mesh_->naturalVertex[v]);
+    value(v, one.data());
+    vals.insert(vals.end(), one.begin(), one.end());
+  }
+  PetscCall(gatherNatural(comm(), ids, vals, comps, mesh_->numVerticesGlobal, values));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::reactionForce(Vec xLocal, size_t set, Eigen::Vector3d *force) const {
+  PetscFunctionBeginUser;
+  Vec g;
+  PetscCall(VecDuplicate(xLocal, &g));
+  PetscCall(gradient(xLocal, g));  // Dirichlet vertices carry only elastic contributions of this rank's cells
+  const PetscScalar *ga;
+  PetscCall(VecGetArrayRead(g, &ga));
+  double f[3] = {0, 0, 0}, tot[3];
+  for (const auto &vi : verts_)
+    if (vi.bcSet == static_cast<int>(set))
+      for (int i = 0; i < R; ++i) f[i] += ga[vi.loc + i];
+  PetscCall(VecRestoreArrayRead(g, &ga));
+  PetscCall(VecDestroy(&g));
+  PetscCallMPI(MPI_Allreduce(f, tot, 3, MPI_DOUBLE, MPI_SUM, comm()));
+  *force = Eigen::Vector3d(tot[0], tot[1], tot[2]);
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::maxDisplacement(Vec xLocal, PetscReal *value) const {
+  const PetscScalar *x;
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArrayRead(xLocal, &x));
+  double m = 0.0;
+  for (const auto &vi : verts_) {
+    double d2 = 0.0;
+    for (int i = 0; i < R; ++i) d2 += (x[vi.loc + i] - vi.rest[i]) * (x[vi.loc + i] - vi.rest[i]);
+    m = std::max(m, std::sqrt(d2));
+  }
+  PetscCall(VecRestoreArrayRead(xLocal, &x));
+  PetscCallMPI(MPI_Allreduce(&m, value, 1, MPI_DOUBLE, MPI_MAX, comm()));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::gatherLocalVertexValues(Vec local,
+                                                              const std::function<bool(const VertexInfo &)> &include,
+                                                              bool sumShares, std::vector<double> *values) const {
+  const PetscScalar *a;
+  PetscFunctionBeginUser;
+  std::vector<PetscInt> ids;
+  std::vector<double> vals;
+  PetscCall(VecGetArrayRead(local, &a));
+  for (size_t v = 0; v < verts_.size(); ++v) {
+    const VertexInfo &vi = verts_[v];
+    if (!(sumShares || vi.owned) || !include(vi)) continue;
+    ids.push_back(mesh_->naturalVertex[v]);
+    for (int i = 0; i < 3; ++i) vals.push_back(i < R ? a[vi.loc + i] : 0.0);
+  }
+  PetscCall(VecRestoreArrayRead(local, &a));
+  PetscCall(gatherNatural(comm(), ids, vals, 3, mesh_->numVerticesGlobal, values, sumShares));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::gatherVertexField(Vec xLocal, std::vector<double> *values) const {
+  PetscFunctionBeginUser;
+  PetscCall(gatherLocalVertexValues(xLocal, [](const VertexInfo &) { return true; }, false, values));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::gatherRestPositions(std::vector<double> *values) const {
+  PetscFunctionBeginUser;
+  PetscCall(gatherOwnedVertices(3, [&](size_t v, double *out) {
+    for (int i = 0; i < 3; ++i) out[i] = verts_[v].rest[i];
+  }, values));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::gatherCellField(const std::vector<double> &perCell, int components,
+                                                      std::vector<double> *values) const {
+  PetscFunctionBeginUser;
+  std::vector<PetscInt> ids;
+  std::vector<double> vals;
+  for (size_t c = 0; c < cells_.size(); ++c)
+    if (cells_.cells()[c].owned) {
+      ids.push_back(mesh_->naturalCell[c]);
+      vals.insert(vals.end(), perCell.begin() + c * components, perCell.begin() + (c + 1) * components);
+    }
+  PetscCall(gatherNatural(comm(), ids, vals, components, mesh_->numCellsGlobal, values));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::gatherTopology(std::vector<PetscInt> *cellsOut) const {
+  PetscFunctionBeginUser;
+  std::vector<double> conn;
+  std::vector<PetscInt> ids;
+  for (size_t c = 0; c < cells_.size(); ++c) {
+    const Cell &cell = cells_.cells()[c];
+    if (!cell.owned) continue;
+    ids.push_back(mesh_->naturalCell[c]);
+    for (int v = 0; v < NV; ++v) conn.push_back(static_cast<double>(mesh_->naturalVertex[cell.vertex[v]]));
+  }
+  std::vector<double> all;
+  PetscCall(gatherNatural(comm(), ids, conn, NV, mesh_->numCellsGlobal, &all));
+  cellsOut->resize(all.size());
+  for (size_t i = 0; i < all.size(); ++i) (*cellsOut)[i] = static_cast<PetscInt>(all[i]);
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::cellFibers(std::vector<double> *fibers) const {
+  PetscFunctionBeginUser;
+  fibers->clear();
+  for (const auto &f : restFibers_) fibers->insert(fibers->end(), f.begin(), f.end());
+  PetscFunctionReturn(0);
+}
+
+template class DiscretizationT<3, 3>;
+template class DiscretizationT<2, 2>;
+template class DiscretizationT<3, 2>;
+
+}  // namespace aries::fem

@@ -1,0 +1,109 @@
+// The discretization for one element shape (tet 3x3, planar 2x2, cloth 3x2): internal to lib/fem. Its parts live in
+// one file per responsibility:
+//   discretization.cpp   setup order, the step state, boundary values, rest positions, mass
+//   dof_layout.cpp       Dirichlet marking, the PetscSection, the vertex table, clamp centers
+//   rest_geometry.cpp    per-cell rest data (Dm^-1, measure), degenerate/inverted cell checks, lumped mass
+//   cell_data.cpp        materials and regions, fibers, shape targets, the caricature field
+//   assembly.cpp         objective, gradient, Hessian and curvature as loops over the terms (terms/)
+//   diagnostics.cpp      per-cell quantities, stress, reactions, gathers in natural order for output
+#pragma once
+
+#include "fem/discretization.hpp"
+#include "fem/material_options.hpp"
+#include "fem/shape_targets.hpp"
+#include "fem/terms/bending_hinges.hpp"
+#include "fem/terms/elastic_cells.hpp"
+#include "fem/terms/inertia_gravity.hpp"
+#include "fem/terms/obstacle_contact.hpp"
+#include "fem/vertex_layout.hpp"
+
+#include <memory>
+#include <vector>
+
+namespace aries::fem {
+
+// Gathers (natural id, values) pairs onto rank 0 into a dense array of `total * comps` values (sum: add duplicates).
+PetscErrorCode gatherNatural(MPI_Comm comm, const std::vector<PetscInt> &ids, const std::vector<double> &vals,
+                             int comps, PetscInt total, std::vector<double> *out, bool sum = false);
+
+template <int R, int C>
+class DiscretizationT final : public Discretization {
+ public:
+  using Cells = ElasticCells<R, C>;
+  using Cell = typename Cells::Cell;
+  static constexpr int NV = Cells::NV;
+
+  PetscErrorCode setup(Mesh &mesh, double dt);
+
+  PetscErrorCode setStep(const StepState &step) override;
+  PetscErrorCode fillBoundary(Vec xLocal) const override;
+  PetscErrorCode restPositions(Vec xGlobal) const override;
+  PetscErrorCode lumpedMass(Vec massGlobal) const override;
+  PetscErrorCode objective(Vec xLocal, PetscReal *value, PetscReal *magnitude = nullptr) const override;
+  PetscErrorCode gradient(Vec xLocal, Vec gLocal) const override;
+  PetscErrorCode hessian(Vec xLocal, Mat J) override;
+  PetscErrorCode curvatureGram(Vec xLocal, const std::vector<Vec> &dLocal, std::vector<double> *gram) const override;
+  PetscErrorCode elasticEnergy(Vec xLocal, PetscReal *value) const override;
+  PetscErrorCode updateBarrierFallback(Vec xLocal, double threshold, PetscInt *count) override;
+  PetscErrorCode cellAlpha(Vec xLocal, std::vector<double> *alpha) const override;
+  PetscErrorCode cellGuard(Vec xLocal, std::vector<double> *guard) const override;
+  PetscErrorCode cellQuantities(Vec xLocal, CellQuantities *q) const override;
+  PetscErrorCode barrierActiveCells(Vec xLocal, PetscInt *count) const override;
+  void mollifierBandTop(std::vector<double> *top) const override;
+  PetscErrorCode gatherVertexField(Vec xLocal, std::vector<double> *values) const override;
+  PetscErrorCode gatherRestPositions(std::vector<double> *values) const override;
+  PetscErrorCode gatherCellField(const std::vector<double> &perCell, int components,
+                                 std::vector<double> *values) const override;
+  PetscErrorCode gatherTopology(std::vector<PetscInt> *cells) const override;
+  PetscErrorCode cellFibers(std::vector<double> *fibers) const override;
+  int shapeCols() const override { return C; }
+  void forEachOwnedFreeVertex(
+      const std::function<void(PetscInt, PetscInt, PetscInt, const Eigen::Vector3d &)> &fn) const override;
+  PetscErrorCode maxDisplacement(Vec xLocal, PetscReal *value) const override;
+  PetscErrorCode reactionForce(Vec xLocal, size_t set, Eigen::Vector3d *force) const override;
+  PetscErrorCode cellStressMeasures(Vec xLocal, std::vector<kernels::StressMeasures> *out) const override;
+  void cellRegions(std::vector<double> *regions) const override;
+  PetscErrorCode gatherVertexReactions(Vec xLocal, std::vector<double> *values) const override;
+  PetscErrorCode gatherVertexMarkers(std::vector<double> *values) const override;
+
+ private:
+  // Setup, in this order (discretization.cpp).
+  PetscErrorCode readMaterials(Mesh &mesh, std::vector<UniformCellData> *regionCells,
+                               std::vector<std::pair<DMLabel, PetscInt>> *regionLabels);          // cell_data.cpp
+  PetscErrorCode readDynamics();                                                                 // cell_data.cpp
+  PetscErrorCode markDirichlet(const Mesh &mesh, const std::vector<Eigen::Vector3d> &rest,
+                               std::vector<PetscInt> *bcFlag);                                   // dof_layout.cpp
+  PetscErrorCode layoutDofs(const Mesh &mesh, const std::vector<Eigen::Vector3d> &rest,
+                            const std::vector<PetscInt> &bcFlag);                                // dof_layout.cpp
+  PetscErrorCode setupRestCells(const Mesh &mesh, const std::vector<std::pair<DMLabel, PetscInt>> &regionLabels);
+  PetscErrorCode checkRestCells(const Mesh &mesh, const std::vector<double> &signedMeasure) const;  // rest_geometry
+  PetscErrorCode setupCellData(Mesh &mesh, const std::vector<UniformCellData> &regionCells, bool regions);
+  PetscErrorCode setupActiveMaterials(Mesh &mesh);                                               // cell_data.cpp
+  PetscErrorCode setupMass(const Mesh &mesh);                                                    // rest_geometry
+  PetscErrorCode setupTerms(Mesh &mesh, double dt);                                              // discretization
+  bool usesEnergy(energies::EnergyKind kind) const;  // by any region
+  void updateTargets();
+
+  // A local vector's vertex values (padded to 3 components) gathered in natural order on rank 0, for the vertices
+  // `include` selects: each vertex's value taken once from its owner, or (sumShares) every rank's value summed.
+  PetscErrorCode gatherLocalVertexValues(Vec local, const std::function<bool(const VertexInfo &)> &include,
+                                         bool sumShares, std::vector<double> *values) const;
+  // `comps` values per owned vertex, value(local vertex, out), gathered in natural order on rank 0.
+  PetscErrorCode gatherOwnedVertices(int comps, const std::function<void(size_t, double *)> &value,
+                                     std::vector<double> *values) const;
+  MPI_Comm comm() const { return PetscObjectComm((PetscObject)mesh_->dm); }
+
+  VertexTable verts_;
+  Cells cells_{verts_, materials_};
+  std::vector<std::array<double, 3>> restFibers_;  // per cell, for output (material frame)
+  TargetField targets_;                            // shape_target: -activation / -target_file
+  std::vector<double> mass_;                       // per local vertex
+  PetscBool keepOrientation_ = PETSC_FALSE;        // -keep_orientation (planar elements)
+  std::unique_ptr<BendingHinges> hinges_;          // -bending (cloth)
+  std::unique_ptr<ObstacleContact> contact_;       // -obstacle_plane / -obstacle_sphere (3D)
+  std::unique_ptr<InertiaGravity<R>> inertia_;     // backward Euler and -gravity
+  std::vector<const Term *> terms_;                // the active terms, in assembly order
+  bool stashSized_ = false;  // the off-rank assembly buffer sized before the first Hessian assembly
+};
+
+}  // namespace aries::fem

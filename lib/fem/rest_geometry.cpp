@@ -1,0 +1,169 @@
+// Rest geometry: each cell's vertices, rest edge matrix Dm in the material frame (a 3D triangle in its own oriented
+// frame), W = [-1^T Dm^-1; Dm^-1] and rest measure; one clear error for a degenerate or inverted rest cell; the total
+// rest measure and the lumped vertex masses.
+#include "fem/discretization_impl.hpp"
+
+#include "fem/errors.hpp"
+
+#include <petscdmplex.h>
+#include <petscsf.h>
+
+#include <cmath>
+#include <sstream>
+
+namespace aries::fem {
+
+namespace {
+
+// Material frame of a rest triangle in 3D with (oriented) unit normal n: the projection of the global x and y axes
+// onto its plane (a flat cloth in the xy plane with normals +z has u = x, v = y); falls back to (x,z) / (y,z). The
+// frame is made right-handed about n, so every rest triangle of a consistently oriented surface has a positive
+// area in it (and a flipped element of a UV map is one with det F < 0).
+Eigen::Matrix<double, 3, 2> orientedFrame(Eigen::Matrix<double, 3, 2> E, const Eigen::Vector3d &n) {
+  if (E.col(0).cross(E.col(1)).dot(n) < 0.0) E.col(1) *= -1.0;
+  return E;
+}
+
+Eigen::Matrix<double, 3, 2> clothFrame(const Eigen::Vector3d &n) {
+  const Eigen::Vector3d axes[3] = {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitZ()};
+  const int pairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
+  for (const auto &p : pairs) {
+    Eigen::Vector3d e1 = axes[p[0]] - n.dot(axes[p[0]]) * n;
+    if (e1.norm() < 0.3) continue;
+    e1.normalize();
+    Eigen::Vector3d e2 = axes[p[1]] - n.dot(axes[p[1]]) * n;
+    e2 -= e1.dot(e2) * e1;
+    if (e2.norm() < 0.3) continue;
+    Eigen::Matrix<double, 3, 2> E;
+    E << e1, e2.normalized();
+    return orientedFrame(E, n);
+  }
+  Eigen::Matrix<double, 3, 2> E;
+  E << n.unitOrthogonal(), n.cross(n.unitOrthogonal());
+  return orientedFrame(E, n);
+}
+
+}  // namespace
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::setupRestCells(const Mesh &mesh,
+                                                     const std::vector<std::pair<DMLabel, PetscInt>> &regionLabels) {
+  PetscFunctionBeginUser;
+  const PetscInt nc = mesh.cEnd - mesh.cStart;
+  std::vector<Cell> &cells = cells_.cells();
+  cells.resize(nc);
+  std::vector<double> signedMeasure(nc);
+  for (PetscInt c = mesh.cStart; c < mesh.cEnd; ++c) {
+    Cell &cell = cells[c - mesh.cStart];
+    PetscInt ncl, *closure = nullptr, k = 0;
+    PetscCall(DMPlexGetTransitiveClosure(mesh.dm, c, PETSC_TRUE, &ncl, &closure));
+    for (PetscInt i = 0; i < ncl && k < NV; ++i) {
+      const PetscInt p = closure[2 * i];
+      if (p >= mesh.vStart && p < mesh.vEnd) cell.vertex[k++] = p - mesh.vStart;
+    }
+    PetscCall(DMPlexRestoreTransitiveClosure(mesh.dm, c, PETSC_TRUE, &ncl, &closure));
+    // Rest edge matrix in the material frame (C x C).
+    kernels::Mat<C, C> Dm;
+    bool projected = false;
+    if constexpr (C == 2) {
+      if (mesh.spaceDim == 3) {  // cloth, or a UV map: the 3D triangle in its material frame
+        const Eigen::Vector3d X0 = verts_[cell.vertex[0]].rest;
+        const Eigen::Vector3d e1 = verts_[cell.vertex[1]].rest - X0, e2 = verts_[cell.vertex[2]].rest - X0;
+        Eigen::Vector3d n = e1.cross(e2);
+        n = n.norm() > 0.0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d::UnitZ();
+        const Eigen::Matrix<double, 3, 2> E = clothFrame(n);
+        Dm.col(0) = E.transpose() * e1;
+        Dm.col(1) = E.transpose() * e2;
+        projected = true;
+      }
+    }
+    if (!projected)
+      for (int k2 = 0; k2 < C; ++k2)
+        Dm.col(k2) = (verts_[cell.vertex[k2 + 1]].rest - verts_[cell.vertex[0]].rest).template head<C>();
+    const double det = Dm.determinant();
+    signedMeasure[c - mesh.cStart] = det / (C == 3 ? 6.0 : 2.0);
+    cell.measure = std::abs(signedMeasure[c - mesh.cStart]);
+    const kernels::Mat<C, C> B = std::abs(det) > 0.0 ? kernels::Mat<C, C>(Dm.inverse()) : kernels::Mat<C, C>::Zero();
+    cell.W.row(0) = -B.colwise().sum();
+    cell.W.template bottomRows<C>() = B;
+    cell.owned = mesh.cellOwned[c - mesh.cStart];
+    cell.region = 0;
+    for (size_t r = 0; r < regionLabels.size(); ++r) {
+      PetscInt val;
+      PetscCall(DMLabelGetValue(regionLabels[r].first, c, &val));
+      if (val == regionLabels[r].second) cell.region = static_cast<int>(r + 1);
+    }
+  }
+  PetscCall(checkRestCells(mesh, signedMeasure));
+  double localMeasure = 0.0;
+  for (const auto &cell : cells)
+    if (cell.owned) localMeasure += cell.measure;
+  PetscCallMPI(MPI_Allreduce(&localMeasure, &restMeasure_, 1, MPI_DOUBLE, MPI_SUM, comm()));
+  PetscFunctionReturn(0);
+}
+
+// Degenerate or inverted rest cells: one clear error naming the (natural, 0-based gmsh-order) cell. Inverted means
+// oriented against the majority of the mesh's cells.
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::checkRestCells(const Mesh &mesh, const std::vector<double> &signedMeasure) const {
+  PetscFunctionBeginUser;
+  const double tiny = 1e-14 * std::pow(mesh.diagonal, C);
+  long pos = 0, neg = 0;
+  for (double s : signedMeasure) (s > 0 ? pos : neg)++;
+  long tot[2] = {pos, neg}, gtot[2];
+  PetscCallMPI(MPI_Allreduce(tot, gtot, 2, MPI_LONG, MPI_SUM, comm()));
+  const double majority = gtot[0] >= gtot[1] ? 1.0 : -1.0;
+  std::string msg;
+  for (size_t c = 0; c < signedMeasure.size() && msg.empty(); ++c) {
+    const double s = signedMeasure[c];
+    if (std::abs(s) <= tiny) {
+      std::ostringstream o;
+      o << "mesh '" << mesh.filename << "': cell " << mesh.naturalCell[c] << " (0-based, gmsh element order) is "
+        << "degenerate: rest " << (C == 3 ? "volume " : "area ") << s << "; fix or remove it";
+      msg = o.str();
+    } else if (s * majority < 0.0) {
+      std::ostringstream o;
+      o << "mesh '" << mesh.filename << "': cell " << mesh.naturalCell[c] << " (0-based, gmsh element order) is "
+        << "inverted: signed rest " << (C == 3 ? "volume " : "area ") << s * majority
+        << " (its orientation disagrees with the mesh); reorder its nodes";
+      msg = o.str();
+    }
+  }
+  PetscCall(collectiveCheck(comm(), !msg.empty(), msg));
+  PetscFunctionReturn(0);
+}
+
+// Lumped mass: density * measure / (vertices per cell) from every owned cell, summed over the ranks sharing a vertex.
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::setupMass(const Mesh &mesh) {
+  PetscInt pStart, pEnd;
+  PetscSF pointSF;
+  std::vector<char> sharedCopy;
+  PetscFunctionBeginUser;
+  PetscCall(DMPlexGetChart(mesh.dm, &pStart, &pEnd));
+  PetscCall(DMGetPointSF(mesh.dm, &pointSF));
+  PetscCall(sharedLeafPoints(mesh.dm, &sharedCopy));
+  const PetscInt nv = mesh.vEnd - mesh.vStart;
+  mass_.assign(nv, 0.0);
+  for (const auto &cell : cells_.cells())
+    if (cell.owned)
+      for (int v = 0; v < NV; ++v) mass_[cell.vertex[v]] += dyn_.density * cell.measure / NV;
+  std::vector<double> leaf(pEnd - pStart, 0.0), root(pEnd - pStart, 0.0);
+  for (PetscInt v = 0; v < nv; ++v) leaf[mesh.vStart + v - pStart] = mass_[v];
+  root = leaf;
+  PetscCall(PetscSFReduceBegin(pointSF, MPI_DOUBLE, leaf.data(), root.data(), MPI_SUM));
+  PetscCall(PetscSFReduceEnd(pointSF, MPI_DOUBLE, leaf.data(), root.data(), MPI_SUM));
+  PetscCall(PetscSFBcastBegin(pointSF, MPI_DOUBLE, root.data(), leaf.data(), MPI_REPLACE));
+  PetscCall(PetscSFBcastEnd(pointSF, MPI_DOUBLE, root.data(), leaf.data(), MPI_REPLACE));
+  for (PetscInt v = 0; v < nv; ++v) {
+    const PetscInt p = mesh.vStart + v - pStart;
+    mass_[v] = !sharedCopy[p] ? root[p] : leaf[p];
+  }
+  PetscFunctionReturn(0);
+}
+
+template class DiscretizationT<3, 3>;
+template class DiscretizationT<2, 2>;
+template class DiscretizationT<3, 2>;
+
+}  // namespace aries::fem

@@ -1,0 +1,73 @@
+// The elastic energy of the cells: sum over owned cells of measure * Psi(F), F = sum_v x_v W.row(v), with the
+// material of the cell's region (energies/energy.hpp). Owns the per-cell rest data (vertices, W = [-1^T Dm^-1; Dm^-1],
+// measure, region) and anisotropy data, and the barrier mode's per-cell fallback to the mollifier.
+#pragma once
+
+#include "fem/terms/term.hpp"
+#include "fem/vertex_layout.hpp"
+
+#include <array>
+#include <vector>
+
+namespace aries::fem {
+
+template <int R, int C>
+class ElasticCells final : public Term {
+ public:
+  static constexpr int NV = C + 1;   // vertices per cell
+  static constexpr int NDOF = NV * R;
+  static constexpr int NF = R * C;   // entries of F
+  struct Cell {
+    std::array<PetscInt, NV> vertex;  // local vertex index (v - vStart)
+    kernels::Mat<NV, C> W;            // F = sum_v x_v W.row(v)
+    double measure;                   // rest volume / area
+    int region;                       // material index
+    bool owned;                       // false for overlap cells (surface meshes), skipped by all sums
+  };
+
+  ElasticCells(const VertexTable &verts, const std::vector<energies::Material> &materials)
+      : verts_(verts), materials_(materials) {}
+  const char *name() const override { return "elastic cells"; }
+  void addEnergy(const PetscScalar *x, double *energy, double *magnitude) const override;
+  void addGradient(const PetscScalar *x, PetscScalar *g) const override;
+  PetscErrorCode addHessian(const PetscScalar *x, const HessianAssembly &how, Mat J) const override;
+  void addCurvature(const PetscScalar *x, const PetscScalar *const d[], int K, GramMatrix *q) const override;
+  PetscInt offRankHessianValues() const override;
+
+  std::vector<Cell> &cells() { return cells_; }
+  const std::vector<Cell> &cells() const { return cells_; }
+  size_t size() const { return cells_.size(); }
+  // Anisotropy data: one entry shared by all cells, or one per cell.
+  std::vector<energies::CellData<C>> &cellData() { return cellData_; }
+  const energies::CellData<C> &dataOf(size_t c) const { return cellData_.size() == 1 ? cellData_[0] : cellData_[c]; }
+  // The material a cell is evaluated with: its region's, or the mollified copy where the barrier fell back.
+  const energies::Material &materialOf(size_t c) const {
+    return fallback_.empty() || !fallback_[c] ? materials_[cells_[c].region] : mollified_[cells_[c].region];
+  }
+  kernels::Mat<R, C> deformationGradient(size_t c, const PetscScalar *x) const {
+    const Cell &cell = cells_[c];
+    kernels::Mat<R, C> F = kernels::Mat<R, C>::Zero();
+    for (int v = 0; v < NV; ++v) {
+      const PetscScalar *xv = x + verts_[cell.vertex[v]].loc;
+      for (int i = 0; i < R; ++i) F.row(i) += xv[i] * cell.W.row(v);
+    }
+    return F;
+  }
+  double energyDensity(size_t c, const PetscScalar *x) const {
+    return energies::evaluateEnergy<R, C>(materialOf(c), dataOf(c), deformationGradient(c, x), kernels::Order::Value)
+        .value;
+  }
+  // Barrier mode at singular elements (paper Sec. 7.1): cells with alpha <= threshold are evaluated with the
+  // mollifier until a later call finds them above it. Returns the number of such local cells.
+  PetscInt updateBarrierFallback(const std::vector<double> &alpha, double threshold);
+
+ private:
+  const VertexTable &verts_;
+  const std::vector<energies::Material> &materials_;
+  std::vector<Cell> cells_;
+  std::vector<energies::CellData<C>> cellData_;
+  std::vector<char> fallback_;                 // per cell: barrier -> mollifier
+  std::vector<energies::Material> mollified_;  // materials_ with the barrier replaced by the mollifier
+};
+
+}  // namespace aries::fem

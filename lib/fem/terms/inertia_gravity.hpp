@@ -1,0 +1,37 @@
+// Inertia and gravity on the owned free vertices (lumped mass m_v, backward Euler as an incremental potential):
+// sum_v m_v [ |x_v - x~_v|^2 / (2 dt^2) - g . x_v ], with dt and the prediction x~ of the step being solved for
+// (fem/step_state.hpp); static solves have dt = 0 and keep only gravity.
+#pragma once
+
+#include "fem/terms/term.hpp"
+#include "fem/vertex_layout.hpp"
+
+#include <vector>
+
+namespace aries::fem {
+
+template <int R>
+class InertiaGravity final : public Term {
+ public:
+  // `localSize`: the length of a local vector; the prediction starts at 0.
+  InertiaGravity(const VertexTable &verts, const std::vector<double> &mass, const Eigen::Vector3d &gravity,
+                 PetscInt localSize)
+      : verts_(verts), mass_(mass), gravity_(gravity), xTilde_(localSize, 0.0) {}
+  void setTimeStep(double dt) { dt_ = dt; }
+  std::vector<double> &prediction() { return xTilde_; }  // local vector layout
+  bool active() const { return dt_ > 0.0 || gravity_.squaredNorm() > 0.0; }
+  const char *name() const override { return "inertia and gravity"; }
+  void addEnergy(const PetscScalar *x, double *energy, double *magnitude) const override;
+  void addGradient(const PetscScalar *x, PetscScalar *g) const override;
+  PetscErrorCode addHessian(const PetscScalar *x, const HessianAssembly &how, Mat J) const override;
+  void addCurvature(const PetscScalar *x, const PetscScalar *const d[], int K, GramMatrix *q) const override;
+
+ private:
+  const VertexTable &verts_;
+  const std::vector<double> &mass_;  // per local vertex
+  const Eigen::Vector3d &gravity_;
+  double dt_ = 0.0;
+  std::vector<double> xTilde_;       // per local dof
+};
+
+}  // namespace aries::fem

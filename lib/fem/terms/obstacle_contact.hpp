@@ -1,0 +1,37 @@
+// Contact with analytic obstacles (-obstacle_plane, -obstacle_sphere; 3D meshes): a smooth log barrier
+// (kernels/obstacle_barrier.hpp) on the distance of every owned free vertex to every obstacle, active below
+// -contact_dhat, with stiffness -contact_stiffness.
+#pragma once
+
+#include "fem/mesh.hpp"
+#include "fem/terms/term.hpp"
+#include "fem/vertex_layout.hpp"
+#include "kernels/obstacle_barrier.hpp"
+
+#include <vector>
+
+namespace aries::fem {
+
+class ObstacleContact final : public Term {
+ public:
+  explicit ObstacleContact(const VertexTable &verts) : verts_(verts) {}
+  // Reads the obstacle options; `defaultStiffness` is the body's own stiffness at a vertex. Fails with a one-line
+  // error if an option is malformed or a rest vertex is inside an obstacle. Collective.
+  PetscErrorCode read(const Mesh &mesh, double defaultStiffness);
+  bool empty() const { return obstacles_.empty(); }
+  const char *name() const override { return "obstacle contact"; }
+  void addEnergy(const PetscScalar *x, double *energy, double *magnitude) const override;
+  void addGradient(const PetscScalar *x, PetscScalar *g) const override;
+  PetscErrorCode addHessian(const PetscScalar *x, const HessianAssembly &how, Mat J) const override;
+  void addCurvature(const PetscScalar *x, const PetscScalar *const d[], int K, GramMatrix *q) const override;
+
+ private:
+  kernels::Derivs<3> at(const Eigen::Vector3d &xv, const kernels::Obstacle &o, kernels::Order order) const {
+    return kernels::obstacleBarrier(o, xv, dhat_, kappa_, order);
+  }
+  const VertexTable &verts_;
+  std::vector<kernels::Obstacle> obstacles_;
+  double dhat_ = 0.0, kappa_ = 0.0;
+};
+
+}  // namespace aries::fem

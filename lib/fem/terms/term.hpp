@@ -1,0 +1,52 @@
+// One term of the total potential (elastic cells, bending hinges, obstacle contact, inertia + gravity): its value,
+// gradient, Hessian and true curvature on this rank's share of a local state (a DMPlex local vector, Dirichlet values
+// filled), each implemented once, in the term's own file. The discretization's objective, gradient, Hessian and
+// curvature Gram matrix are loops over the active terms (assembly.cpp), in a fixed order so results do not depend on
+// anything but the state.
+#pragma once
+
+#include "energies/energy.hpp"
+
+#include <petscmat.h>
+
+#include <Eigen/Core>
+
+namespace aries::fem {
+
+// How the Hessian is assembled: the element Hessians' eigenvalue filter (projected Newton) and whether the matrix
+// takes blocks of the vertex dofs (BAIJ with bs = dofs per vertex) or scalar entries (AIJ, for GAMG).
+struct HessianAssembly {
+  energies::HessianFilter filter;
+  bool blocked = true;
+};
+
+// The K x K Gram matrix d_k^T H d_l of at most kMaxGramDirections directions, accumulated term by term.
+constexpr int kMaxGramDirections = 8;
+using GramMatrix = Eigen::Matrix<double, kMaxGramDirections, kMaxGramDirections>;
+
+class Term {
+ public:
+  virtual ~Term() = default;
+  virtual const char *name() const = 0;
+  // Adds this rank's share of the energy to *energy and the sum of the absolute values of its pieces (the scale of
+  // its round-off) to *magnitude; both as one partial sum per term.
+  virtual void addEnergy(const PetscScalar *x, double *energy, double *magnitude) const = 0;
+  // Adds the gradient into g (local vector layout; shared vertices are summed by the local-to-global scatter).
+  virtual void addGradient(const PetscScalar *x, PetscScalar *g) const = 0;
+  // Adds the (filtered, for element terms) Hessian into J with ADD_VALUES; assembly is finished by the caller.
+  virtual PetscErrorCode addHessian(const PetscScalar *x, const HessianAssembly &how, Mat J) const = 0;
+  // Adds d_k^T H d_l with the true (unfiltered) Hessian for the K directions d[k] (local layout, zero at Dirichlet
+  // dofs) into the top-left K x K block of q.
+  virtual void addCurvature(const PetscScalar *x, const PetscScalar *const d[], int K, GramMatrix *q) const = 0;
+  // Values this term adds to rows another rank owns in one Hessian assembly (an upper bound), to size PETSc's stash.
+  virtual PetscInt offRankHessianValues() const { return 0; }
+};
+
+// Accumulates sum_kl a_k^T M a_l for a term's pieces a_k of the K directions (the columns of A).
+template <class DirMat, class HessMat>
+inline void addGram(const DirMat &A, const HessMat &M, int K, GramMatrix *q) {
+  const auto MA = (M * A).eval();
+  q->topLeftCorner(K, K) += A.transpose() * MA;
+}
+
+}  // namespace aries::fem
