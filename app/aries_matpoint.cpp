@@ -26,13 +26,26 @@ namespace {
 
 const char kHelp[] =
     "aries-matpoint: evaluate an aries energy at one deformation gradient F or along a deformation path.\n"
-    "  -energy NAME        alx|iarap|iarap_lin|arap_svd|ortho|aniso|fiber|kim_aa|bw|bw46|bw461|bw46s|shape_target|"
-    "caricature\n"
+    "  -energy NAME        one of the energies below\n"
     "  -F v1,v2,...        F row-major: 9 values (3x3 tet), 4 (2x2 planar) or 6 (3x2 cloth)\n"
     "  -json               print one JSON object: energy, pk1, hessian, hessian_psd, f, alpha, I4, I6\n"
     "  -path P -max X -n N stress-strain CSV along P = uniaxial|compress (uniaxial stress: lateral stretches relaxed\n"
     "                      to zero lateral stress) or shear (simple shear F = I + g e_x e_y); -shape tet|planar|cloth\n"
     "  material options: see docs/options.md\n";
+
+// The energies of the registry with their shapes and own options.
+void printEnergies() {
+  std::printf("energies (-energy NAME):\n");
+  for (const auto &e : energies::kEnergyRegistry) {
+    std::string shapes;
+    for (auto [on, tag] : {std::pair{e.tet, "tet"}, std::pair{e.planar, "planar"}, std::pair{e.cloth, "cloth"}})
+      if (on) shapes += (shapes.empty() ? "" : ", ") + std::string(tag);
+    std::printf("  %-12s [%s] %s\n", e.name, shapes.c_str(), e.summary);
+    for (int k = 0; k < e.numParams; ++k)
+      std::printf("      %s%s%s: %s\n", e.params[k].option, e.params[k].option2 ? ", " : "",
+                  e.params[k].option2 ? e.params[k].option2 : "", e.params[k].help);
+  }
+}
 
 void printNumber(double x) {
   if (std::isfinite(x))
@@ -260,6 +273,7 @@ int main(int argc, char **argv) {
   for (int i = 1; i < argc; ++i)
     if (std::string(argv[i]) == "-help" || std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") {
       std::printf("%s", kHelp);  // this tool's help only (PETSc's generic option list does not apply here)
+      printEnergies();
       return 0;
     }
   PetscErrorCode ierr = PetscInitialize(&argc, &argv, nullptr, nullptr);

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Generates the C++ table behind `aries -help` from docs/options.md (the one source of the option documentation):
 every row of a table whose header is `| option | default | meaning |`, with the section heading above it, and the
-energy and output-field tables. Usage:
+output-field table (the energies are printed from the energy registry, lib/energies/registry.hpp). Usage:
 options_help.py docs/options.md OUT.cpp. The rows are written as they read in the docs, without markdown."""
 import re
 import sys
@@ -45,7 +45,7 @@ def cstr(text):
 def main():
     src, dst = sys.argv[1], sys.argv[2]
     with open(src, encoding="utf-8") as fh:
-        table = list(rows(fh.read()))
+        table = [r for r in rows(fh.read()) if not r[0].startswith("Energies")]
     if not table:
         sys.exit("options_help.py: no option rows found in %s" % src)
     out = ["// Generated from docs/options.md by cmake/options_help.py: do not edit.",

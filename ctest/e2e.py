@@ -717,6 +717,17 @@ def case_help():
     missing += sorted(e for e in energies | fields if e not in usage)
     if missing:
         fail("-help does not list: %s" % ", ".join(missing))
+    # The energy section is printed from the registry (lib/energies/catalog/): it and the docs' table agree.
+    section = log.split("Energies (-energy NAME", 1)[-1]
+    registry = set(re.findall(r"^  (\S+) \[", section, re.M))
+    if len(registry) < 10 or registry != energies:
+        fail("the registry's energies (-help) and docs/options.md's energy table differ: only in the registry %s, only "
+             "in the docs %s" % (sorted(registry - energies), sorted(energies - registry)))
+    with open(os.path.join(ARGS.root, "docs", "energies.md")) as fh:
+        conventions = set(re.findall(r"^\| `([a-z0-9_]+)` \|", fh.read(), re.M))
+    if registry != conventions:
+        fail("the registry's energies and docs/energies.md's table differ: %s vs %s"
+             % (sorted(registry - conventions), sorted(conventions - registry)))
     if "-newton_tol X [1e-2 (beuler), 1e-4 (static)]" not in log:
         fail("-help does not show -newton_tol with its default")
     src = ""
@@ -727,6 +738,11 @@ def case_help():
     read = set(re.findall(r'option(?:String|Real|Int|Bool|RealList|WordList)\(\s*[^,()]*,\s*"(-[A-Za-z0-9_]+)"', src))
     read |= set(re.findall(r'PetscOptions(?:HasName|GetString|GetReal|GetInt|GetBool)\(\s*[^,]*,\s*[^,]*,\s*'
                            r'"(-[A-Za-z0-9_]+)"', src))
+    # Energy options are declared in their descriptors (ParamSpec, lib/energies/catalog/) and read by the registry's
+    # generic reader.
+    for f in glob.glob(os.path.join(ARGS.root, "lib", "energies", "catalog", "*.hpp")):
+        with open(f) as fh:
+            read |= set(re.findall(r'"(-[A-Za-z][A-Za-z0-9_]*)"', fh.read()))
     if len(read) < 50:
         fail("the source scan found only %d option reads" % len(read))
     # PETSc options whose default aries changes are documented in the prose of docs/options.md (solver defaults).

@@ -11,6 +11,7 @@
 //   shape_target = mu/2 |F - R S_t|^2 + lambda/2 (J - det S_t)^2 in the Eq. 65 form (note: mu/2, Eq. 54's scale)
 #pragma once
 
+#include "energies/energy_list.hpp"
 #include "kernels/aberration_barrier.hpp"
 #include "kernels/mollifier.hpp"
 
@@ -24,22 +25,15 @@ namespace aries::energies {
 using kernels::Mat;
 using kernels::Vec;
 
+// The energies of the registry (energy_list.hpp), one id each.
 enum class EnergyKind {
-  Alx,          // Eq. 38, one fiber a
-  Iarap,        // Eq. 39 + volume term
-  IarapLin,     // Eq. 40 (Lin 2022) + volume term
-  ArapSvd,      // iarap with R from an SVD (reference / baseline)
-  Ortho,        // orthotropic layering (Sec. 5.1)
-  Aniso,        // generally anisotropic layering (Sec. 5.1)
-  Fiber,        // iarap + gamma/2 (I4(a) - 1)^2 (Sec. 6, octopus)
-  KimAA,        // Kim 2019 Psi_AA (Eq. 9) per basis direction + volume term (baseline)
-  Bw,           // Baraff-Witkin, Kim 2020 form (Eq. 45), cloth
-  Bw46,         // Eq. 49, cloth
-  Bw461,        // Eq. 52, cloth
-  Bw46s,        // Eq. 53, cloth, non-orthogonal fibers
-  ShapeTarget,  // Eq. 65 + volume term lambda/2 (J - det S_t)^2
-  Caricature,   // Eq. 66: iarap + mu beta c I4(n)
+#define ARIES_ENERGY_ID(Name) Name,
+  ARIES_ENERGIES(ARIES_ENERGY_ID)
+#undef ARIES_ENERGY_ID
 };
+#define ARIES_ENERGY_COUNT(Name) +1
+inline constexpr int kEnergyCount = 0 ARIES_ENERGIES(ARIES_ENERGY_COUNT);
+#undef ARIES_ENERGY_COUNT
 
 enum class SingularityMode { None, Mollifier, Barrier };
 
@@ -74,6 +68,15 @@ struct Material {
   // Weight tensors W of the layered ARAP term (weighted_arap.hpp) for 3D and planar elements, set by finalize().
   Eigen::Matrix3d weight3 = Eigen::Matrix3d::Zero();
   Eigen::Matrix2d weight2 = Eigen::Matrix2d::Zero();
+};
+
+// Element data that options can set uniformly (the FE layer may override it per cell from files).
+struct UniformCellData {
+  Eigen::Vector3d a = Eigen::Vector3d::UnitX();          // -fiber
+  Eigen::Vector3d b = Eigen::Vector3d::UnitY();          // -fiber2
+  Eigen::Matrix3d target = Eigen::Matrix3d::Identity();  // -target (shape_target)
+  double curvature = 1.0;                                // -curvature (caricature)
+  bool fiberGiven = false;
 };
 
 // Per-element anisotropy data in the material frame (Cols = 3 for tets, 2 for planar and cloth elements).

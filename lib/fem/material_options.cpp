@@ -1,5 +1,6 @@
 #include "fem/material_options.hpp"
 
+#include "energies/registry.hpp"
 #include "fem/options.hpp"
 
 namespace aries::fem {
@@ -45,6 +46,107 @@ PetscErrorCode basisFrom(const Eigen::Vector3d &a, const Eigen::Vector3d &b, con
   PetscFunctionReturn(0);
 }
 
+// The options an energy declares (energies/descriptor.hpp, ParamSpec). `inherited`: a region starting from a global
+// material of the same energy, whose values stand where an option is not given.
+PetscErrorCode readEnergyParams(const char *prefix, const energies::EnergyInfo &info, int dim, bool inherited,
+                                energies::Material *m, UniformCellData *c) {
+  PetscFunctionBeginUser;
+  for (int k = 0; k < info.numParams; ++k) {
+    const energies::ParamSpec &p = info.params[k];
+    const std::string opt = optionName(prefix, p.option);
+    PetscBool set = PETSC_FALSE;
+    std::vector<PetscReal> v;
+    switch (p.kind) {
+      case energies::ParamKind::Real:
+        PetscCall(optionReal(prefix, p.option, &(m->*p.real), &set));
+        break;
+      case energies::ParamKind::CellReal:
+        PetscCall(optionReal(prefix, p.option, &(c->*p.cellReal), &set));
+        break;
+      case energies::ParamKind::PerAxis:
+        PetscCall(optionRealList(prefix, p.option, &v, &set, dim));
+        for (size_t i = 0; i < v.size(); ++i) m->basisCoeffs[i] = v[i];
+        break;
+      case energies::ParamKind::Directions: {
+        std::vector<PetscReal> coeffs;
+        PetscBool setCoeffs = PETSC_FALSE;
+        PetscCall(optionRealList(prefix, p.option, &v, &set, -1));
+        PetscCall(optionRealList(prefix, p.option2, &coeffs, &setCoeffs, -1));
+        if (!set && !setCoeffs && inherited) break;
+        const int n = static_cast<int>(coeffs.size());
+        if (!set || !setCoeffs || n < 1 || n > energies::kMaxDirections || v.size() != static_cast<size_t>(n * dim))
+          SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+                  "energy '%s' needs %s with 1..%d directions of %d components each and %s with one coefficient per "
+                  "direction",
+                  info.name, opt.c_str(), energies::kMaxDirections, dim, optionName(prefix, p.option2).c_str());
+        m->numDirections = n;
+        for (int d = 0; d < n; ++d) {
+          m->directions[d] = Eigen::Vector3d::Zero();
+          for (int i = 0; i < dim; ++i) m->directions[d][i] = v[d * dim + i];
+          m->directionCoeffs[d] = coeffs[d];
+        }
+        set = PETSC_TRUE;
+        break;
+      }
+      case energies::ParamKind::SymmetricMatrix: {
+        PetscCall(optionRealList(prefix, p.option, &v, &set, dim * dim));
+        if (!set) break;
+        Eigen::Matrix3d T = Eigen::Matrix3d::Identity();
+        for (int i = 0; i < dim; ++i)
+          for (int j = 0; j < dim; ++j) T(i, j) = v[i * dim + j];
+        if (!(T - T.transpose()).isZero(1e-12 * (1.0 + T.norm())))
+          SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s must be a symmetric matrix", opt.c_str());
+        c->target = T;
+        break;
+      }
+    }
+    if (!set && p.required && !inherited)
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "energy '%s' needs %s: %s", info.name, opt.c_str(), p.help);
+  }
+  PetscFunctionReturn(0);
+}
+
+// Moduli: cloth -mu1 (stretch) and -mu2 (shear, where the energy has it), default 20 each; otherwise -E/-nu
+// (default 1e4, 0.3) or -mu/-lambda, not both; a region keeps its base's moduli unless it gives its own.
+PetscErrorCode readModuli(const char *prefix, bool cloth, const energies::Material *base, energies::Material *m) {
+  PetscFunctionBeginUser;
+  if (cloth) {
+    if (!base) m->mu1 = m->mu2 = 20.0;
+    PetscCall(optionReal(prefix, "-mu1", &m->mu1, nullptr));
+    if (energies::energyInfo(m->kind).mu2) PetscCall(optionReal(prefix, "-mu2", &m->mu2, nullptr));
+  } else {
+    PetscReal E = 1e4, nu = 0.3;
+    PetscBool hasE = PETSC_FALSE, hasNu = PETSC_FALSE, hasMu = PETSC_FALSE, hasLambda = PETSC_FALSE;
+    PetscCall(optionReal(prefix, "-E", &E, &hasE));
+    PetscCall(optionReal(prefix, "-nu", &nu, &hasNu));
+    PetscCall(optionReal(prefix, "-mu", &m->mu, &hasMu));
+    PetscCall(optionReal(prefix, "-lambda", &m->lambda, &hasLambda));
+    if ((hasE || hasNu) && (hasMu || hasLambda))
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "give the moduli either as %s/%s or as %s/%s, not both",
+              optionName(prefix, "-E").c_str(), optionName(prefix, "-nu").c_str(), optionName(prefix, "-mu").c_str(),
+              optionName(prefix, "-lambda").c_str());
+    if (hasE && !(E > 0.0))
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: Young's modulus must be > 0 (got %g)",
+              optionName(prefix, "-E").c_str(), (double)E);
+    if (hasNu && !(nu >= 0.0 && nu < 0.5))
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: Poisson's ratio must be in [0, 0.5) (got %g)",
+              optionName(prefix, "-nu").c_str(), (double)nu);
+    if (hasMu && !(m->mu >= 0.0))
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s must be >= 0 (got %g)",
+              optionName(prefix, "-mu").c_str(), (double)m->mu);
+    if (hasLambda && !(m->lambda >= 0.0))
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s must be >= 0 (got %g)",
+              optionName(prefix, "-lambda").c_str(), (double)m->lambda);
+    if (hasE || hasNu || (!base && !hasMu && !hasLambda)) {
+      m->mu = energies::lameMu(E, nu);
+      m->lambda = energies::lameLambda(E, nu);
+    } else if (hasMu && !hasLambda && !base) {
+      m->lambda = 0.0;
+    }
+  }
+  PetscFunctionReturn(0);
+}
+
 }  // namespace
 
 PetscErrorCode materialUsesFibers(energies::EnergyKind kind, bool *uses) {
@@ -87,110 +189,13 @@ PetscErrorCode readMaterialOptions(const char *prefix, ElementShape shape, const
                           : "");
   }
 
-  // Moduli.
-  if (cloth) {
-    if (!base) m.mu1 = m.mu2 = 20.0;
-    PetscCall(optionReal(prefix, "-mu1", &m.mu1, nullptr));
-    if (m.kind != EnergyKind::Bw46) PetscCall(optionReal(prefix, "-mu2", &m.mu2, nullptr));
-  } else {
-    PetscReal E = 1e4, nu = 0.3;
-    PetscBool hasE = PETSC_FALSE, hasNu = PETSC_FALSE, hasMu = PETSC_FALSE, hasLambda = PETSC_FALSE;
-    PetscCall(optionReal(prefix, "-E", &E, &hasE));
-    PetscCall(optionReal(prefix, "-nu", &nu, &hasNu));
-    PetscCall(optionReal(prefix, "-mu", &m.mu, &hasMu));
-    PetscCall(optionReal(prefix, "-lambda", &m.lambda, &hasLambda));
-    if ((hasE || hasNu) && (hasMu || hasLambda))
-      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "give the moduli either as %s/%s or as %s/%s, not both",
-              optionName(prefix, "-E").c_str(), optionName(prefix, "-nu").c_str(), optionName(prefix, "-mu").c_str(),
-              optionName(prefix, "-lambda").c_str());
-    if (hasE && !(E > 0.0))
-      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: Young's modulus must be > 0 (got %g)",
-              optionName(prefix, "-E").c_str(), (double)E);
-    if (hasNu && !(nu >= 0.0 && nu < 0.5))
-      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: Poisson's ratio must be in [0, 0.5) (got %g)",
-              optionName(prefix, "-nu").c_str(), (double)nu);
-    if (hasMu && !(m.mu >= 0.0))
-      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s must be >= 0 (got %g)",
-              optionName(prefix, "-mu").c_str(), (double)m.mu);
-    if (hasLambda && !(m.lambda >= 0.0))
-      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s must be >= 0 (got %g)",
-              optionName(prefix, "-lambda").c_str(), (double)m.lambda);
-    if (hasE || hasNu || (!base && !hasMu && !hasLambda)) {
-      m.mu = energies::lameMu(E, nu);
-      m.lambda = energies::lameLambda(E, nu);
-    } else if (hasMu && !hasLambda && !base) {
-      m.lambda = 0.0;
-    }
-  }
+  PetscCall(readModuli(prefix, cloth, base, &m));
 
-  // Energy-specific parameters.
-  switch (m.kind) {
-    case EnergyKind::Fiber: {
-      PetscCall(optionReal(prefix, "-gamma", &m.gamma, &set));
-      if (!set && !(base && base->kind == EnergyKind::Fiber))
-        SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "energy 'fiber' needs %s (fiber stiffness, >= 0)",
-                optionName(prefix, "-gamma").c_str());
-      break;
-    }
-    case EnergyKind::Caricature:
-      PetscCall(optionReal(prefix, "-beta", &m.beta, &set));
-      if (!set && !(base && base->kind == EnergyKind::Caricature))
-        SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "energy 'caricature' needs %s (curvature exaggeration)",
-                optionName(prefix, "-beta").c_str());
-      PetscCall(optionReal(prefix, "-curvature", &c.curvature, nullptr));
-      break;
-    case EnergyKind::Ortho: {
-      std::vector<PetscReal> v;
-      PetscCall(optionRealList(prefix, "-ortho_mu", &v, &set, dim));
-      if (!set && !(base && base->kind == EnergyKind::Ortho))
-        SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
-                "energy 'ortho' needs %s with %d shear moduli, one per basis direction (-fiber, -fiber2, ...)",
-                optionName(prefix, "-ortho_mu").c_str(), dim);
-      for (size_t k = 0; k < v.size(); ++k) m.basisCoeffs[k] = v[k];
-      break;
-    }
-    case EnergyKind::Aniso: {
-      std::vector<PetscReal> dirs, mus;
-      PetscBool setD = PETSC_FALSE, setM = PETSC_FALSE;
-      PetscCall(optionRealList(prefix, "-aniso_dirs", &dirs, &setD));
-      PetscCall(optionRealList(prefix, "-aniso_mu", &mus, &setM));
-      if (setD || setM || !(base && base->kind == EnergyKind::Aniso)) {
-        const int n = static_cast<int>(mus.size());
-        if (!setD || !setM || n < 1 || n > energies::kMaxDirections || dirs.size() != static_cast<size_t>(n * dim))
-          SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
-                  "energy 'aniso' needs %s with 1..%d directions of %d components each and %s with one coefficient "
-                  "per direction",
-                  optionName(prefix, "-aniso_dirs").c_str(), energies::kMaxDirections, dim,
-                  optionName(prefix, "-aniso_mu").c_str());
-        m.numDirections = n;
-        for (int k = 0; k < n; ++k) {
-          m.directions[k] = Eigen::Vector3d::Zero();
-          for (int i = 0; i < dim; ++i) m.directions[k][i] = dirs[k * dim + i];
-          m.directionCoeffs[k] = mus[k];
-        }
-      }
-      break;
-    }
-    case EnergyKind::ShapeTarget: {
-      std::vector<PetscReal> v;
-      PetscCall(optionRealList(prefix, "-target", &v, &set, dim * dim));
-      if (set) {
-        Eigen::Matrix3d T = Eigen::Matrix3d::Identity();
-        for (int i = 0; i < dim; ++i)
-          for (int j = 0; j < dim; ++j) T(i, j) = v[i * dim + j];
-        if (!(T - T.transpose()).isZero(1e-12 * (1.0 + T.norm())))
-          SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: the shape target S_t must be symmetric",
-                  optionName(prefix, "-target").c_str());
-        c.target = T;
-      }
-      break;
-    }
-    default:
-      break;
-  }
+  // The energy's own options (its descriptor's params, energies/catalog/).
+  PetscCall(readEnergyParams(prefix, energies::energyInfo(m.kind), dim, base && base->kind == m.kind, &m, &c));
 
   // Fibers: the energies that read them per element, plus the basis of ortho / kim_aa.
-  const bool basisEnergy = m.kind == EnergyKind::Ortho || m.kind == EnergyKind::KimAA;
+  const bool basisEnergy = energies::energyInfo(m.kind).basis;
   bool usesFibers = false;
   PetscCall(materialUsesFibers(m.kind, &usesFibers));
   if (usesFibers || basisEnergy) {

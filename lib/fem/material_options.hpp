@@ -8,14 +8,7 @@
 
 namespace aries::fem {
 
-// Element data that options can set uniformly (the FE layer may override per cell from files).
-struct UniformCellData {
-  Eigen::Vector3d a = Eigen::Vector3d::UnitX();  // -fiber
-  Eigen::Vector3d b = Eigen::Vector3d::UnitY();  // -fiber2
-  Eigen::Matrix3d target = Eigen::Matrix3d::Identity();  // -target (shape_target)
-  double curvature = 1.0;                                 // -curvature (caricature)
-  bool fiberGiven = false;
-};
+using energies::UniformCellData;
 
 // Reads the material under `prefix` (nullptr for the global one, "region_<id>_" for a region), starting from
 // `base` where given, for elements of `shape`; validates and finalizes it. Errors are PETSC_ERR_USER_INPUT with

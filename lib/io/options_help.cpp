@@ -1,5 +1,7 @@
 #include "io/options_help.hpp"
 
+#include "energies/registry.hpp"
+
 #include <cstring>
 #include <string>
 
@@ -39,6 +41,18 @@ PetscErrorCode printOptionsHelp(MPI_Comm comm, int width) {
       PetscCall(PetscPrintf(comm, "%s:\n", section));
     }
     PetscCall(PetscPrintf(comm, "  %s [%s]\n%s", o.usage, o.defaults, wrap(o.meaning, "      ", width).c_str()));
+  }
+  PetscCall(PetscPrintf(comm, "Energies (-energy NAME; the registry, lib/energies/catalog/):\n"));
+  for (const auto &e : energies::kEnergyRegistry) {
+    std::string shapes;
+    for (auto [on, tag] : {std::pair{e.tet, "tet"}, std::pair{e.planar, "planar"}, std::pair{e.cloth, "cloth"}})
+      if (on) shapes += (shapes.empty() ? "" : ", ") + std::string(tag);
+    PetscCall(PetscPrintf(comm, "  %s [%s]\n%s", e.name, shapes.c_str(), wrap(e.summary, "      ", width).c_str()));
+    for (int k = 0; k < e.numParams; ++k) {
+      const energies::ParamSpec &p = e.params[k];
+      const std::string usage = std::string(p.option) + (p.option2 ? std::string(", ") + p.option2 : "");
+      PetscCall(PetscPrintf(comm, "%s", wrap(usage + ": " + p.help, "      ", width).c_str()));
+    }
   }
   PetscFunctionReturn(0);
 }

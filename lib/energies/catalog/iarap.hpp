@@ -1,0 +1,45 @@
+// iarap: mu |F - R|^2 + lambda/2 (J - 1)^2 as the sum of direction terms over an orthonormal basis (Eq. 39); small
+// strain = linear elasticity with (E, nu). Tets with an isotropic weight take the fused closed form
+// (isotropic_arap_tet.hpp) wherever the singularity fix is inactive, with the closed-form eigensystem for
+// projected Newton.
+#pragma once
+
+#include "energies/descriptor.hpp"
+#include "energies/isotropic_arap_tet.hpp"
+
+namespace aries::energies {
+
+// The fused tet evaluation with weight w (iarap_lin's value at every F, iarap's outside the fix's band).
+inline kernels::Derivs<9> fusedIsotropicArapTet(const EnergyInput<3, 3> &in, const kernels::RootDerivatives<3> &rd,
+                                                double w) {
+  if (in.filtered() && in.filter->analytic)
+    return isotropicArapTet(in.F, rd, w, 2.0 * w, 3.0 * w, in.m.lambda, 1.0, in.order, &in.filter->filter);
+  return in.finish(isotropicArapTet(in.F, rd, w, 2.0 * w, 3.0 * w, in.m.lambda, 1.0, in.order));
+}
+// The root's derivatives the fused evaluation needs: the closed-form filtered Hessian needs only R.
+inline kernels::RootDerivatives<3> fusedRootDerivatives(const EnergyInput<3, 3> &in) {
+  const bool chainRuleHessian =
+      kernels::wants(in.order, kernels::Order::Hessian) && !(in.filtered() && in.filter->analytic);
+  return kernels::rootDerivatives(in.F, chainRuleHessian ? 2 : 1);
+}
+
+struct IarapEnergy : EnergyDefaults {
+  static constexpr const char *name = "iarap";
+  static constexpr const char *summary =
+      "mu |F - R|^2 + lambda/2 (J - 1)^2 as the sum of direction terms (Eq. 39); small strain = linear elasticity "
+      "(E, nu)";
+  static constexpr bool stretch = true, volume = true;
+  static std::string finalize(Material &m, int dim) { return isotropicWeight(m, dim); }
+  template <int R, int C>
+  static kernels::Derivs<R * C> evaluate(const EnergyInput<R, C> &in) {
+    if constexpr (R == 3 && C == 3) {
+      if (kernels::isIsotropic<3>(in.m.weight3)) {
+        const auto rd = fusedRootDerivatives(in);
+        if (stretchFixInactive(in.m.singularity, rd.root.alpha)) return fusedIsotropicArapTet(in, rd, in.m.weight3(0, 0));
+      }
+    }
+    return layeredArap(in);
+  }
+};
+
+}  // namespace aries::energies
