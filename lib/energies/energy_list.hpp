@@ -18,4 +18,5 @@
   X(Bw461)                \
   X(Bw46s)                \
   X(ShapeTarget)          \
-  X(Caricature)
+  X(Caricature)           \
+  /* one line per energy, above this one */
