@@ -3,8 +3,8 @@
 // Every option is documented in docs/options.md. Exit codes: 0 success, 1 bad input (one error line on stderr),
 // 2 internal error, 3 the simulation failed a step and stopped (-on_failure stop).
 #include "fem/discretization.hpp"
-#include "fem/errors.hpp"
-#include "fem/options.hpp"
+#include "core/errors.hpp"
+#include "core/options.hpp"
 #include "io/options_help.hpp"
 #include "io/run_output.hpp"
 #include "io/version.hpp"
@@ -85,7 +85,7 @@ PetscErrorCode run(int *exitCode) {
     // With a mesh, -help sets the run up (PETSc lists each object's options as it is configured) and stops there.
     if (!(help && haveMesh)) PetscFunctionReturn(0);
   }
-  PetscCall(fem::optionBool(nullptr, "-strict", &strict, nullptr));
+  PetscCall(core::optionBool(nullptr, "-strict", &strict, nullptr));
   PetscCall(PetscLogStageRegister("setup", &setupStage));
   PetscCall(PetscLogStagePush(setupStage));
   solver::SimulationOptions simOpts;
@@ -186,10 +186,10 @@ int main(int argc, char **argv) {
   PetscErrorCode ierr = PetscInitialize(&argc, &argv, nullptr, kHelp);
   if (ierr) return 2;
   int exitCode = 0;
-  ierr = fem::installErrorHandler("aries");
+  ierr = core::installErrorHandler("aries");
   if (!ierr) ierr = run(&exitCode);
   if (ierr) {
-    exitCode = fem::exitCodeFor(ierr);
+    exitCode = core::exitCodeFor(ierr);
     PetscOptionsClear(nullptr);  // the error is the message; keep PetscFinalize quiet
     PetscMPIInt size = 1;
     MPI_Comm_size(PETSC_COMM_WORLD, &size);

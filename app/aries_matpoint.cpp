@@ -8,8 +8,8 @@
 // -singularity and its parameters. Any unknown option is an error.
 #include "energies/energy.hpp"
 #include "fem/material_options.hpp"
-#include "fem/options.hpp"
-#include "fem/errors.hpp"
+#include "core/options.hpp"
+#include "core/errors.hpp"
 
 #include <petscsys.h>
 
@@ -210,13 +210,13 @@ PetscErrorCode runPath(const energies::Material &m, const fem::UniformCellData &
 PetscErrorCode run() {
   PetscBool json = PETSC_FALSE, set = PETSC_FALSE;
   PetscFunctionBeginUser;
-  PetscCall(fem::optionBool(nullptr, "-json", &json, nullptr));
+  PetscCall(core::optionBool(nullptr, "-json", &json, nullptr));
   std::vector<PetscReal> Fv;
   PetscBool hasF = PETSC_FALSE;
-  PetscCall(fem::optionRealList(nullptr, "-F", &Fv, &hasF));
+  PetscCall(core::optionRealList(nullptr, "-F", &Fv, &hasF));
   std::string path;
   PetscBool hasPath = PETSC_FALSE;
-  PetscCall(fem::optionString(nullptr, "-path", &path, &hasPath));
+  PetscCall(core::optionString(nullptr, "-path", &path, &hasPath));
   if (hasF == hasPath)
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
             "give either -F v1,v2,... (9, 4 or 6 values) or -path uniaxial|shear|compress (see -help)");
@@ -231,7 +231,7 @@ PetscErrorCode run() {
               "option -F takes 9 (3x3 tet), 4 (2x2 planar) or 6 (3x2 cloth) row-major values, got %d", (int)Fv.size());
   } else {
     std::string s = "tet";
-    PetscCall(fem::optionString(nullptr, "-shape", &s, nullptr));
+    PetscCall(core::optionString(nullptr, "-shape", &s, nullptr));
     if (s == "tet") shape = ElementShape::Tet;
     else if (s == "planar") shape = ElementShape::Planar;
     else if (s == "cloth") shape = ElementShape::Cloth;
@@ -245,7 +245,7 @@ PetscErrorCode run() {
   PetscCall(fem::readMaterialOptions(nullptr, shape, nullptr, nullptr, &m, &cell));
 
   if (hasF) {
-    PetscCall(fem::rejectUnusedOptions());
+    PetscCall(core::rejectUnusedOptions());
     if (shape == ElementShape::Tet) PetscCall(evaluateAt<3, 3>(m, cell, kernels::unflatten<3, 3>(Vec<9>(Fv.data())), json));
     if (shape == ElementShape::Planar) PetscCall(evaluateAt<2, 2>(m, cell, kernels::unflatten<2, 2>(Vec<4>(Fv.data())), json));
     if (shape == ElementShape::Cloth) PetscCall(evaluateAt<3, 2>(m, cell, kernels::unflatten<3, 2>(Vec<6>(Fv.data())), json));
@@ -253,14 +253,14 @@ PetscErrorCode run() {
   }
   PetscReal maxAmount = 0.1;
   PetscInt n = 10;
-  PetscCall(fem::optionReal(nullptr, "-max", &maxAmount, &set));
-  PetscCall(fem::optionInt(nullptr, "-n", &n, nullptr));
+  PetscCall(core::optionReal(nullptr, "-max", &maxAmount, &set));
+  PetscCall(core::optionInt(nullptr, "-n", &n, nullptr));
   if (!(maxAmount > 0.0)) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -max must be > 0 (got %g)", (double)maxAmount);
   if (path == "compress" && !(maxAmount < 1.0))
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -max: compression must be < 1 (got %g)", (double)maxAmount);
   if (n < 1 || n > 1000000) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -n must be in 1..1000000 (got %d)", (int)n);
   if (json) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "-json applies to -F evaluations; -path prints CSV");
-  PetscCall(fem::rejectUnusedOptions());
+  PetscCall(core::rejectUnusedOptions());
   if (shape == ElementShape::Tet) PetscCall(runPath<3, 3>(m, cell, path, maxAmount, n));
   if (shape == ElementShape::Planar) PetscCall(runPath<2, 2>(m, cell, path, maxAmount, n));
   if (shape == ElementShape::Cloth) PetscCall(runPath<3, 2>(m, cell, path, maxAmount, n));
@@ -278,9 +278,9 @@ int main(int argc, char **argv) {
     }
   PetscErrorCode ierr = PetscInitialize(&argc, &argv, nullptr, nullptr);
   if (ierr) return 2;
-  ierr = fem::installErrorHandler("aries-matpoint");
+  ierr = core::installErrorHandler("aries-matpoint");
   if (!ierr) ierr = run();
-  const int code = fem::exitCodeFor(ierr);
+  const int code = core::exitCodeFor(ierr);
   PetscOptionsClear(nullptr);  // unused options were already reported; keep PetscFinalize quiet
   PetscFinalize();
   return code;

@@ -1,10 +1,16 @@
 #include "fem/boundary.hpp"
 
-#include "fem/options.hpp"
+#include "core/options.hpp"
 
 #include <cmath>
 
 namespace aries::fem {
+
+using core::optionName;
+using core::optionReal;
+using core::optionInt;
+using core::optionRealList;
+using core::optionWordList;
 
 Eigen::Vector3d ClampSet::target(const Eigen::Vector3d &X, double s) const {
   Eigen::Vector3d x = X;

@@ -3,11 +3,16 @@
 // -target_file) and the caricature field computed from the rest surface (paper Sec. 6).
 #include "fem/discretization_impl.hpp"
 
-#include "fem/caricature_field.hpp"
+#include "preprocess/caricature_field.hpp"
 #include "fem/cell_files.hpp"
-#include "fem/options.hpp"
+#include "core/options.hpp"
 
 namespace aries::fem {
+
+using core::optionString;
+using core::optionReal;
+using core::optionRealList;
+using core::optionWordList;
 
 template <int R, int C>
 PetscErrorCode DiscretizationT<R, C>::readMaterials(Mesh &mesh, std::vector<UniformCellData> *regionCells,

@@ -1,13 +1,15 @@
 #include "fem/cell_files.hpp"
 
-#include "fem/options.hpp"
-#include "fem/errors.hpp"
+#include "core/options.hpp"
+#include "core/errors.hpp"
 
 #include <cmath>
 #include <fstream>
 #include <sstream>
 
 namespace aries::fem {
+
+using core::parseReal;
 
 namespace {
 
@@ -35,7 +37,7 @@ PetscErrorCode broadcastResult(MPI_Comm comm, std::string error, std::vector<dou
   PetscCallMPI(MPI_Bcast(&len, 1, MPI_INT, 0, comm));
   error.resize(len);
   PetscCallMPI(MPI_Bcast(error.data(), len, MPI_CHAR, 0, comm));
-  PetscCall(fem::collectiveCheck(comm, !error.empty() && rank == 0, error));
+  PetscCall(core::collectiveCheck(comm, !error.empty() && rank == 0, error));
   PetscCallMPI(MPI_Bcast(data->data(), static_cast<int>(data->size()), MPI_DOUBLE, 0, comm));
   PetscFunctionReturn(0);
 }

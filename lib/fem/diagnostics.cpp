@@ -7,28 +7,7 @@
 
 namespace aries::fem {
 
-PetscErrorCode gatherNatural(MPI_Comm comm, const std::vector<PetscInt> &ids, const std::vector<double> &vals,
-                             int comps, PetscInt total, std::vector<double> *out, bool sum) {
-  PetscMPIInt rank;
-  PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  std::vector<double> mine, all;  // per entry: id (exact as a double below 2^53), then its values
-  mine.reserve(ids.size() * (comps + 1));
-  for (size_t i = 0; i < ids.size(); ++i) {
-    mine.push_back(static_cast<double>(ids[i]));
-    mine.insert(mine.end(), vals.begin() + i * comps, vals.begin() + (i + 1) * comps);
-  }
-  PetscCall(gatherOnRoot(comm, mine, &all));
-  out->clear();
-  if (rank == 0) {
-    out->assign(static_cast<size_t>(total) * comps, 0.0);
-    for (size_t e = 0; e < all.size(); e += comps + 1) {
-      double *dst = &(*out)[static_cast<size_t>(all[e]) * comps];
-      for (int k = 0; k < comps; ++k) dst[k] = sum ? dst[k] + all[e + 1 + k] : all[e + 1 + k];
-    }
-  }
-  PetscFunctionReturn(0);
-}
+using core::gatherNatural;
 
 template <int R, int C>
 PetscErrorCode DiscretizationT<R, C>::updateBarrierFallback(Vec xLocal, double threshold, PetscInt *count) {

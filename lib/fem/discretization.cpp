@@ -1,6 +1,6 @@
 #include "fem/discretization_impl.hpp"
 
-#include "fem/options.hpp"
+#include "core/options.hpp"
 
 #include <petscdmplex.h>
 
@@ -8,6 +8,9 @@
 #include <cmath>
 
 namespace aries::fem {
+
+using core::optionReal;
+using core::optionBool;
 
 using energies::ElementShape;
 

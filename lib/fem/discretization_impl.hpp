@@ -10,7 +10,7 @@
 
 #include "fem/discretization.hpp"
 #include "fem/material_options.hpp"
-#include "fem/shape_targets.hpp"
+#include "preprocess/shape_targets.hpp"
 #include "fem/terms/bending_hinges.hpp"
 #include "fem/terms/elastic_cells.hpp"
 #include "fem/terms/inertia_gravity.hpp"
@@ -22,9 +22,6 @@
 
 namespace aries::fem {
 
-// Gathers (natural id, values) pairs onto rank 0 into a dense array of `total * comps` values (sum: add duplicates).
-PetscErrorCode gatherNatural(MPI_Comm comm, const std::vector<PetscInt> &ids, const std::vector<double> &vals,
-                             int comps, PetscInt total, std::vector<double> *out, bool sum = false);
 
 template <int R, int C>
 class DiscretizationT final : public Discretization {

@@ -11,6 +11,9 @@
 
 namespace aries::fem {
 
+using core::sharedLeafPoints;
+using core::CentroidAccumulator;
+
 // Per DM point: the index of the first Dirichlet set (clamp sets, then boxes) a vertex belongs to, PETSC_MAX_INT if
 // none; every copy of a shared vertex agrees (a boundary face may live on one rank only).
 template <int R, int C>

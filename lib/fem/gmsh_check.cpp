@@ -1,6 +1,6 @@
 #include "fem/gmsh_check.hpp"
 
-#include "fem/errors.hpp"
+#include "core/errors.hpp"
 
 #include <sys/stat.h>
 
@@ -14,6 +14,8 @@
 #include <cstdlib>
 
 namespace aries::fem {
+
+using core::collectiveCheck;
 
 namespace {
 

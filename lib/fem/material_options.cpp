@@ -1,9 +1,14 @@
 #include "fem/material_options.hpp"
 
 #include "energies/registry.hpp"
-#include "fem/options.hpp"
+#include "core/options.hpp"
 
 namespace aries::fem {
+
+using core::optionName;
+using core::optionString;
+using core::optionReal;
+using core::optionRealList;
 
 using energies::ElementShape;
 using energies::EnergyKind;

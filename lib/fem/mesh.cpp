@@ -1,7 +1,7 @@
 #include "fem/mesh.hpp"
 
 #include "fem/gmsh_check.hpp"
-#include "fem/options.hpp"
+#include "core/options.hpp"
 
 #include <metis.h>
 #include <petscsf.h>
@@ -16,6 +16,11 @@
 static_assert(sizeof(idx_t) == sizeof(PetscInt), "Debian METIS idx_t must match PetscInt (32-bit)");
 
 namespace aries::fem {
+
+using core::optionString;
+using core::optionBool;
+using core::parseReal;
+using core::sharedLeafPoints;
 
 Mesh::~Mesh() {
   if (dm) DMDestroy(&dm);
@@ -429,28 +434,6 @@ PetscErrorCode describePhysicalGroups(const Mesh &mesh, std::string *text) {
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode sharedLeafPoints(DM dm, std::vector<char> *leaf) {
-  PetscSF sf;
-  PetscInt pStart, pEnd, nleaves;
-  const PetscInt *ilocal;
-  PetscFunctionBeginUser;
-  PetscCall(DMPlexGetChart(dm, &pStart, &pEnd));
-  PetscCall(DMGetPointSF(dm, &sf));
-  PetscCall(PetscSFGetGraph(sf, nullptr, &nleaves, &ilocal, nullptr));
-  leaf->assign(pEnd - pStart, 0);
-  for (PetscInt i = 0; i < nleaves; ++i) (*leaf)[(ilocal ? ilocal[i] : i) - pStart] = 1;
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode CentroidAccumulator::reduce(MPI_Comm comm, Eigen::Vector3d *centroid, double *count) const {
-  double tot[4];
-  PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Allreduce(sum, tot, 4, MPI_DOUBLE, MPI_SUM, comm));
-  *centroid = tot[3] > 0.0 ? Eigen::Vector3d(Eigen::Vector3d(tot[0], tot[1], tot[2]) / tot[3]) : Eigen::Vector3d::Zero();
-  if (count) *count = tot[3];
-  PetscFunctionReturn(0);
-}
-
 PetscErrorCode sumOverSharedVertices(const Mesh &mesh, int ncomp, std::vector<double> *values) {
   PetscSF sf;
   PetscInt pStart, pEnd;
@@ -476,25 +459,6 @@ PetscErrorCode sumOverSharedVertices(const Mesh &mesh, int ncomp, std::vector<do
     for (int k = 0; k < ncomp; ++k)
       (*values)[static_cast<size_t>(v - mesh.vStart) * ncomp + k] = src[static_cast<size_t>(v - pStart) * ncomp + k];
   }
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode gatherOnRoot(MPI_Comm comm, const std::vector<double> &mine, std::vector<double> *all) {
-  PetscMPIInt rank, size;
-  PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  PetscCallMPI(MPI_Comm_size(comm, &size));
-  const int n = static_cast<int>(mine.size());
-  std::vector<int> counts(size), displs(size);
-  PetscCallMPI(MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm));
-  int total = 0;
-  if (rank == 0)
-    for (int p = 0; p < size; ++p) {
-      displs[p] = total;
-      total += counts[p];
-    }
-  all->assign(rank == 0 ? total : 0, 0.0);
-  PetscCallMPI(MPI_Gatherv(mine.data(), n, MPI_DOUBLE, all->data(), counts.data(), displs.data(), MPI_DOUBLE, 0, comm));
   PetscFunctionReturn(0);
 }
 

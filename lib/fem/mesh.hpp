@@ -8,6 +8,8 @@
 
 #include "energies/material.hpp"
 
+#include "core/parallel.hpp"
+
 #include <petscdmplex.h>
 
 #include <map>
@@ -53,9 +55,6 @@ PetscErrorCode regionLabel(const Mesh &mesh, const std::string &idOrName, DMLabe
 // Human-readable list of the physical groups present (for error messages), collective.
 PetscErrorCode describePhysicalGroups(const Mesh &mesh, std::string *text);
 
-// Flags (indexed p - pStart over the chart) of the points this rank holds as copies of another rank's points
-// (leaves of the point SF). Not collective.
-PetscErrorCode sharedLeafPoints(DM dm, std::vector<char> *leaf);
 // Rest position of every local vertex (index v - vStart), zero-padded to 3D.
 PetscErrorCode vertexRestPositions(const Mesh &mesh, std::vector<Eigen::Vector3d> *rest);
 
@@ -63,19 +62,7 @@ PetscErrorCode vertexRestPositions(const Mesh &mesh, std::vector<Eigen::Vector3d
 // (index v - vStart); on return every copy holds the total. Collective.
 PetscErrorCode sumOverSharedVertices(const Mesh &mesh, int ncomp, std::vector<double> *values);
 
-// The mean of points spread over the ranks (each point added on one rank only): add() locally, then reduce().
-struct CentroidAccumulator {
-  double sum[4] = {0.0, 0.0, 0.0, 0.0};  // x, y, z, count
-  void add(const Eigen::Vector3d &X) {
-    for (int i = 0; i < 3; ++i) sum[i] += X[i];
-    sum[3] += 1.0;
-  }
-  // Collective. `count` (optional) receives the global number of points; with none the centroid is 0.
-  PetscErrorCode reduce(MPI_Comm comm, Eigen::Vector3d *centroid, double *count = nullptr) const;
-};
 
-// Concatenates every rank's `mine` on rank 0, in rank order (`all` is empty elsewhere). Collective.
-PetscErrorCode gatherOnRoot(MPI_Comm comm, const std::vector<double> &mine, std::vector<double> *all);
 
 // The local vertices (index v - vStart) of local cell c, in closure order. Not collective.
 PetscErrorCode cellVertices(const Mesh &mesh, PetscInt c, std::vector<PetscInt> *vertices);

@@ -3,7 +3,7 @@
 // rest measure and the lumped vertex masses.
 #include "fem/discretization_impl.hpp"
 
-#include "fem/errors.hpp"
+#include "core/errors.hpp"
 
 #include <petscdmplex.h>
 #include <petscsf.h>
@@ -12,6 +12,9 @@
 #include <sstream>
 
 namespace aries::fem {
+
+using core::collectiveCheck;
+using core::sharedLeafPoints;
 
 namespace {
 

@@ -1,7 +1,7 @@
 #include "io/checkpoint.hpp"
 
-#include "fem/errors.hpp"
-#include "fem/options.hpp"
+#include "core/errors.hpp"
+#include "core/options.hpp"
 #include "io/files.hpp"
 #include "io/h5_attributes.hpp"
 
@@ -45,14 +45,14 @@ bool readMatrix(hid_t f, const char *name, hsize_t rows, std::vector<double> *v)
 PetscErrorCode readCheckpointOptions(const std::string &outputBase, CheckpointOptions *o) {
   PetscBool set = PETSC_FALSE;
   PetscFunctionBeginUser;
-  PetscCall(fem::optionInt(nullptr, "-checkpoint_every", &o->every, &set));
+  PetscCall(core::optionInt(nullptr, "-checkpoint_every", &o->every, &set));
   if (set && o->every < 0)
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -checkpoint_every must be >= 0 (got %d)", (int)o->every);
   if (o->every > 0) {
     o->path = outputBase.empty() ? std::string("checkpoint.h5") : outputBase + ".checkpoint.h5";
-    PetscCall(fem::optionString(nullptr, "-checkpoint", &o->path, nullptr));
+    PetscCall(core::optionString(nullptr, "-checkpoint", &o->path, nullptr));
   }
-  PetscCall(fem::optionString(nullptr, "-restart", &o->restart, nullptr));
+  PetscCall(core::optionString(nullptr, "-restart", &o->restart, nullptr));
   PetscFunctionReturn(0);
 }
 
@@ -92,7 +92,7 @@ PetscErrorCode writeCheckpoint(const solver::Simulation &sim, const std::string 
     if (f >= 0) ok = H5Fclose(f) >= 0 && ok;
     if (!ok || std::rename(tmp.c_str(), path.c_str()) != 0) err = "cannot write checkpoint '" + path + "'";
   }
-  PetscCall(fem::collectiveCheck(comm, !err.empty(), err));
+  PetscCall(core::collectiveCheck(comm, !err.empty(), err));
   PetscFunctionReturn(0);
 }
 
@@ -142,7 +142,7 @@ PetscErrorCode readCheckpoint(const fem::Mesh &mesh, const std::string &path, Ch
     }
     H5Eset_auto2(H5E_DEFAULT, func, data);
   }
-  PetscCall(fem::collectiveCheck(comm, !err.empty(), err));
+  PetscCall(core::collectiveCheck(comm, !err.empty(), err));
   PetscCallMPI(MPI_Bcast(&step, 1, MPI_LONG_LONG, 0, comm));
   PetscCallMPI(MPI_Bcast(scalars, 2, MPI_DOUBLE, 0, comm));
   const size_t n = 3 * static_cast<size_t>(mesh.numVerticesGlobal);

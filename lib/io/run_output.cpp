@@ -1,7 +1,7 @@
 #include "io/run_output.hpp"
 
-#include "fem/errors.hpp"
-#include "fem/options.hpp"
+#include "core/errors.hpp"
+#include "core/options.hpp"
 #include "io/files.hpp"
 
 #include <algorithm>
@@ -56,13 +56,13 @@ std::vector<std::string> splitCommas(const std::string &s) {
 PetscErrorCode readOutputOptions(bool dynamic, OutputOptions *o) {
   PetscBool set = PETSC_FALSE;
   PetscFunctionBeginUser;
-  PetscCall(fem::optionString(nullptr, "-output", &o->output, &set));
+  PetscCall(core::optionString(nullptr, "-output", &o->output, &set));
   if (set) {
-    PetscCall(fem::optionInt(nullptr, "-output_every", &o->outputEvery, nullptr));
+    PetscCall(core::optionInt(nullptr, "-output_every", &o->outputEvery, nullptr));
     if (o->outputEvery < 1)
       SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -output_every must be >= 1 (got %d)", (int)o->outputEvery);
     std::string list = kDefaultOutputFields;
-    PetscCall(fem::optionString(nullptr, "-output_fields", &list, nullptr));
+    PetscCall(core::optionString(nullptr, "-output_fields", &list, nullptr));
     o->fields.clear();
     for (const std::string &name : list == "all" ? std::vector<std::string>{} : splitCommas(list)) {
       const OutputField *f = nullptr;
@@ -82,9 +82,9 @@ PetscErrorCode readOutputOptions(bool dynamic, OutputOptions *o) {
       for (const auto &g : outputFields())
         if (dynamic || g.source != FieldSource::Velocity) o->fields.push_back(g.name);
   }
-  PetscCall(fem::optionString(nullptr, "-stats", &o->stats, nullptr));
-  PetscCall(fem::optionString(nullptr, "-reactions", &o->reactions, nullptr));
-  PetscCall(fem::optionString(nullptr, "-newton_history", &o->newtonHistory, nullptr));
+  PetscCall(core::optionString(nullptr, "-stats", &o->stats, nullptr));
+  PetscCall(core::optionString(nullptr, "-reactions", &o->reactions, nullptr));
+  PetscCall(core::optionString(nullptr, "-newton_history", &o->newtonHistory, nullptr));
   PetscFunctionReturn(0);
 }
 
@@ -107,7 +107,7 @@ PetscErrorCode RunOutput::setup(const OutputOptions &opts, const CheckpointOptio
       reactions_ = makeParentDirectory(opts.reactions) ? std::fopen(opts.reactions.c_str(), "w") : nullptr;
       if (reactions_) std::fprintf(reactions_, "step,time,set,fx,fy,fz\n");
     }
-    PetscCall(fem::collectiveCheck(comm_, rank == 0 && !reactions_,
+    PetscCall(core::collectiveCheck(comm_, rank == 0 && !reactions_,
                                    "cannot open reactions file '" + opts.reactions + "' for writing (-reactions)"));
   }
   if (!opts.newtonHistory.empty()) {
@@ -115,7 +115,7 @@ PetscErrorCode RunOutput::setup(const OutputOptions &opts, const CheckpointOptio
       history_ = makeParentDirectory(opts.newtonHistory) ? std::fopen(opts.newtonHistory.c_str(), "w") : nullptr;
       if (history_) std::fprintf(history_, "step,iteration,energy,residual,step_inf,lambda,ksp_its,filter,subspace\n");
     }
-    PetscCall(fem::collectiveCheck(comm_, rank == 0 && !history_,
+    PetscCall(core::collectiveCheck(comm_, rank == 0 && !history_,
                                    "cannot open Newton history file '" + opts.newtonHistory +
                                        "' for writing (-newton_history)"));
   }

@@ -1,6 +1,6 @@
 #include "io/stats.hpp"
 
-#include "fem/errors.hpp"
+#include "core/errors.hpp"
 #include "io/files.hpp"
 #include "io/version.hpp"
 
@@ -39,7 +39,7 @@ PetscErrorCode StatsWriter::open(MPI_Comm comm, const std::string &path, PetscIn
     }
     bad = bad || !file_;
   }
-  PetscCall(fem::collectiveCheck(comm, bad, "cannot open stats file '" + path + "' for writing (-stats)"));
+  PetscCall(core::collectiveCheck(comm, bad, "cannot open stats file '" + path + "' for writing (-stats)"));
   PetscFunctionReturn(0);
 }
 

@@ -1,6 +1,6 @@
 #include "io/xdmf_writer.hpp"
 
-#include "fem/errors.hpp"
+#include "core/errors.hpp"
 #include "io/files.hpp"
 #include "io/h5_attributes.hpp"
 
@@ -91,7 +91,7 @@ PetscErrorCode XdmfWriter::open(MPI_Comm comm, const std::string &base, const st
       }
     }
   }
-  PetscCall(fem::collectiveCheck(comm, !err.empty(), err));
+  PetscCall(core::collectiveCheck(comm, !err.empty(), err));
   PetscFunctionReturn(0);
 }
 
@@ -130,7 +130,7 @@ PetscErrorCode XdmfWriter::writeStep(PetscInt step, double time, const std::vect
       PetscCall(writeXmf());
     }
   }
-  PetscCall(fem::collectiveCheck(comm_, !err.empty(), err));
+  PetscCall(core::collectiveCheck(comm_, !err.empty(), err));
   PetscFunctionReturn(0);
 }
 

@@ -1,6 +1,6 @@
 #include "solver/newton.hpp"
 
-#include "fem/options.hpp"
+#include "core/options.hpp"
 
 #include <string>
 
@@ -76,7 +76,7 @@ PetscErrorCode NewtonSolver::attachNearNullSpace() {
   std::string mode = "rigid";
   PetscBool set;
   PetscFunctionBeginUser;
-  PetscCall(fem::optionString(nullptr, "-near_nullspace", &mode, &set));
+  PetscCall(core::optionString(nullptr, "-near_nullspace", &mode, &set));
   if (mode == "none") PetscFunctionReturn(0);
   if (mode != "rigid")
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -near_nullspace: '%s' is not rigid|none", mode.c_str());
@@ -144,15 +144,15 @@ PetscErrorCode NewtonSolver::readOptions(bool dynamic) {
   PetscBool set;
   PetscFunctionBeginUser;
   newtonTol_ = dynamic ? 1e-2 : 1e-4;
-  PetscCall(fem::optionReal(nullptr, "-newton_tol", &newtonTol_, &set));
+  PetscCall(core::optionReal(nullptr, "-newton_tol", &newtonTol_, &set));
   if (!(newtonTol_ > 0.0))
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -newton_tol must be > 0 (got %g)", newtonTol_);
-  PetscCall(fem::optionReal(nullptr, "-alpha_min", &alphaMin_, &set));
+  PetscCall(core::optionReal(nullptr, "-alpha_min", &alphaMin_, &set));
   if (!(alphaMin_ >= 0.0))
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -alpha_min must be >= 0 (got %g)", alphaMin_);
   filterMode_ = dynamic ? EigenFilterMode::Clamp : EigenFilterMode::Abs;
   std::string filter = filterModeName(filterMode_);
-  PetscCall(fem::optionString(nullptr, "-psd_projection", &filter, &set));
+  PetscCall(core::optionString(nullptr, "-psd_projection", &filter, &set));
   if (filter == "clamp") filterMode_ = EigenFilterMode::Clamp;
   else if (filter == "abs") filterMode_ = EigenFilterMode::Abs;
   else if (filter == "adaptive") filterMode_ = EigenFilterMode::Adaptive;
@@ -161,32 +161,32 @@ PetscErrorCode NewtonSolver::readOptions(bool dynamic) {
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -psd_projection: '%s' is not clamp|abs|adaptive|none",
             filter.c_str());
   std::string eigensystem = "analytic";
-  PetscCall(fem::optionString(nullptr, "-psd_eigensystem", &eigensystem, &set));
+  PetscCall(core::optionString(nullptr, "-psd_eigensystem", &eigensystem, &set));
   if (eigensystem != "analytic" && eigensystem != "numeric")
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -psd_eigensystem: '%s' is not analytic|numeric",
             eigensystem.c_str());
   analyticEigensystem_ = eigensystem == "analytic";
   if (filterMode_ == EigenFilterMode::Adaptive) {
-    PetscCall(fem::optionReal(nullptr, "-psd_adaptive_tol", &adaptiveTol_, &set));
+    PetscCall(core::optionReal(nullptr, "-psd_adaptive_tol", &adaptiveTol_, &set));
     if (!(adaptiveTol_ > 0.0))
       SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -psd_adaptive_tol must be > 0 (got %g)", adaptiveTol_);
   }
-  PetscCall(fem::optionInt(nullptr, "-newton_subspace", &subspace_, &set));
+  PetscCall(core::optionInt(nullptr, "-newton_subspace", &subspace_, &set));
   if (subspace_ < 0 || subspace_ > 7)
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -newton_subspace must be in 0..7 (got %d)", (int)subspace_);
   if (subspace_ > 0) {
     subspaceMax_ = dynamic ? 0.0 : 2.0;
-    PetscCall(fem::optionReal(nullptr, "-newton_subspace_max", &subspaceMax_, &set));
+    PetscCall(core::optionReal(nullptr, "-newton_subspace_max", &subspaceMax_, &set));
     if (!(subspaceMax_ == 0.0 || subspaceMax_ >= 1.0))
       SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -newton_subspace_max must be 0 (no limit) or >= 1 (got %g)",
               subspaceMax_);
   }
-  PetscCall(fem::optionReal(nullptr, "-newton_forcing", &forcing_, &set));
+  PetscCall(core::optionReal(nullptr, "-newton_forcing", &forcing_, &set));
   if (!(forcing_ >= 0.0 && forcing_ < 1.0))
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -newton_forcing must be in [0, 1) (got %g)", forcing_);
   if (dynamic) {
     PetscBool guess = PETSC_TRUE;
-    PetscCall(fem::optionBool(nullptr, "-newton_inertia_guess", &guess, &set));
+    PetscCall(core::optionBool(nullptr, "-newton_inertia_guess", &guess, &set));
     useInertiaGuess_ = guess;
   } else {
     useInertiaGuess_ = false;
@@ -215,7 +215,7 @@ PetscErrorCode NewtonSolver::setup(fem::Discretization &disc, bool dynamic, doub
   PetscCall(DMSNESSetJacobianLocal(dm, jacobianLocal, this));
   PetscCall(SNESSetObjective(snes_, objectiveCallback, this));
   std::string matType;  // the discretization asks for BAIJ (bs = dofs per vertex); GAMG in PETSc 3.18 needs AIJ
-  PetscCall(fem::optionString(nullptr, "-dm_mat_type", &matType, &set));
+  PetscCall(core::optionString(nullptr, "-dm_mat_type", &matType, &set));
   if (set) PetscCall(DMSetMatType(dm, matType.c_str()));
   PetscCall(DMCreateMatrix(dm, &J_));
   PetscCall(MatSetOption(J_, MAT_SYMMETRIC, PETSC_TRUE));

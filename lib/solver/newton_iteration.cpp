@@ -3,7 +3,7 @@
 // update. Setup, options and the solve loop are in newton.cpp.
 #include "solver/newton.hpp"
 
-#include "fem/options.hpp"
+#include "core/options.hpp"
 
 #include <Eigen/Eigenvalues>
 

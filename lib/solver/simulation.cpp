@@ -1,7 +1,7 @@
 #include "solver/simulation.hpp"
 
-#include "fem/options.hpp"
-#include "fem/tutte.hpp"
+#include "core/options.hpp"
+#include "preprocess/tutte.hpp"
 
 #include <cmath>
 #include <cstdint>
@@ -28,17 +28,17 @@ PetscErrorCode readSimulationOptions(SimulationOptions *o) {
   std::string s;
   PetscBool set;
   PetscFunctionBeginUser;
-  PetscCall(fem::optionString(nullptr, "-integrator", &s, &set));
+  PetscCall(core::optionString(nullptr, "-integrator", &s, &set));
   if (set) {
     if (s == "static") o->integrator = Integrator::Static;
     else if (s == "beuler") o->integrator = Integrator::BackwardEuler;
     else SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -integrator: '%s' is not static|beuler", s.c_str());
   }
-  PetscCall(fem::optionReal(nullptr, "-dt", &o->dt, &set));
+  PetscCall(core::optionReal(nullptr, "-dt", &o->dt, &set));
   if (!(o->dt > 0.0)) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -dt must be > 0 (got %g)", o->dt);
-  PetscCall(fem::optionInt(nullptr, "-steps", &o->steps, &set));
+  PetscCall(core::optionInt(nullptr, "-steps", &o->steps, &set));
   if (o->steps < 1) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -steps must be >= 1 (got %d)", (int)o->steps);
-  PetscCall(fem::optionString(nullptr, "-initial", &s, &set));
+  PetscCall(core::optionString(nullptr, "-initial", &s, &set));
   if (set) {
     if (s == "rest") o->initial = InitialState::Rest;
     else if (s == "scramble") o->initial = InitialState::Scramble;
@@ -53,18 +53,18 @@ PetscErrorCode readSimulationOptions(SimulationOptions *o) {
               s.c_str());
   }
   if (o->initial == InitialState::Scramble) {
-    PetscCall(fem::optionReal(nullptr, "-scramble_volume_ratio", &o->scrambleVolumeRatio, &set));
+    PetscCall(core::optionReal(nullptr, "-scramble_volume_ratio", &o->scrambleVolumeRatio, &set));
     if (!(o->scrambleVolumeRatio > 0.0))
       SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -scramble_volume_ratio must be > 0 (got %g)",
               o->scrambleVolumeRatio);
-    PetscCall(fem::optionInt(nullptr, "-scramble_seed", &o->scrambleSeed, &set));
+    PetscCall(core::optionInt(nullptr, "-scramble_seed", &o->scrambleSeed, &set));
   }
   if (o->integrator == Integrator::BackwardEuler) {
     PetscBool ps = PETSC_TRUE;
-    PetscCall(fem::optionBool(nullptr, "-predictor_start", &ps, &set));
+    PetscCall(core::optionBool(nullptr, "-predictor_start", &ps, &set));
     o->predictorStart = ps;
   }
-  PetscCall(fem::optionString(nullptr, "-on_failure", &s, &set));
+  PetscCall(core::optionString(nullptr, "-on_failure", &s, &set));
   if (set) {
     if (s == "stop") o->onFailure = FailurePolicy::Stop;
     else if (s == "halve_dt") o->onFailure = FailurePolicy::HalveDt;
@@ -72,7 +72,7 @@ PetscErrorCode readSimulationOptions(SimulationOptions *o) {
     else SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -on_failure: '%s' is not stop|halve_dt|continue", s.c_str());
   }
   if (o->onFailure == FailurePolicy::HalveDt) {
-    PetscCall(fem::optionInt(nullptr, "-max_step_halvings", &o->maxStepHalvings, &set));
+    PetscCall(core::optionInt(nullptr, "-max_step_halvings", &o->maxStepHalvings, &set));
     if (o->maxStepHalvings < 1 || o->maxStepHalvings > 30)
       SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -max_step_halvings must be in 1..30");
   }
@@ -129,7 +129,7 @@ PetscErrorCode Simulation::applyInitialState() {
   }
   const int R = static_cast<int>(disc_->dofsPerVertex());
   // Rest centroid and measure of the body (vertices are the free ones; the centroid uses all cells).
-  fem::CentroidAccumulator acc;
+  core::CentroidAccumulator acc;
   disc_->forEachOwnedFreeVertex([&](PetscInt, PetscInt, PetscInt, const Eigen::Vector3d &X) { acc.add(X); });
   Eigen::Vector3d centroid;
   PetscCall(acc.reduce(comm, &centroid));

@@ -11,7 +11,7 @@
 #include "fem/cell_files.hpp"
 #include "fem/gmsh_check.hpp"
 #include "fem/material_options.hpp"
-#include "fem/options.hpp"
+#include "core/options.hpp"
 
 #include <petscsys.h>
 

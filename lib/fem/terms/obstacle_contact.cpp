@@ -1,11 +1,15 @@
 #include "fem/terms/obstacle_contact.hpp"
 
-#include "fem/errors.hpp"
-#include "fem/options.hpp"
+#include "core/errors.hpp"
+#include "core/options.hpp"
 
 #include <sstream>
 
 namespace aries::fem {
+
+using core::optionReal;
+using core::optionRealList;
+using core::collectiveCheck;
 
 PetscErrorCode ObstacleContact::read(const Mesh &mesh, double defaultStiffness) {
   std::vector<PetscReal> planes, spheres;

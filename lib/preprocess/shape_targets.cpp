@@ -1,12 +1,15 @@
-#include "fem/shape_targets.hpp"
+#include "preprocess/shape_targets.hpp"
 
 #include "fem/cell_files.hpp"
-#include "fem/options.hpp"
+#include "core/options.hpp"
 
 #include <algorithm>
 #include <cmath>
 
 namespace aries::fem {
+
+using core::optionString;
+using core::optionRealList;
 
 PetscErrorCode TargetField::read(const Mesh &mesh, int dim, bool uniformTargetGiven) {
   MPI_Comm comm;

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace aries::fem {
+namespace aries::core {
 
 // Full option name for messages: "-" + prefix + name without its leading dash.
 std::string optionName(const char *prefix, const char *name);
@@ -27,9 +27,9 @@ PetscErrorCode optionWordList(const char *prefix, const char *name, std::vector<
 // Parses a finite real number; false if `text` is not one entirely.
 bool parseReal(const std::string &text, double *value);
 
-}  // namespace aries::fem
+}  // namespace aries::core
 
-namespace aries::fem {
+namespace aries::core {
 // Raises PETSC_ERR_USER_INPUT naming the first option nobody read (a typo or an option that does not apply).
 PetscErrorCode rejectUnusedOptions();
-}  // namespace aries::fem
+}  // namespace aries::core

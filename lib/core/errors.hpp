@@ -11,7 +11,7 @@
 
 #include <string>
 
-namespace aries::fem {
+namespace aries::core {
 
 // Installs the handler; `program` prefixes the message ("aries", "aries-matpoint").
 PetscErrorCode installErrorHandler(const char *program);
@@ -25,4 +25,4 @@ int exitCodeFor(PetscErrorCode ierr);
 // Collective: if `bad` on any rank, every rank raises PETSC_ERR_USER_INPUT with the message of the lowest such rank.
 PetscErrorCode collectiveCheck(MPI_Comm comm, bool bad, const std::string &message);
 
-}  // namespace aries::fem
+}  // namespace aries::core

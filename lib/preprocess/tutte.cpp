@@ -1,7 +1,7 @@
-#include "fem/tutte.hpp"
+#include "preprocess/tutte.hpp"
 
-#include "fem/errors.hpp"
-#include "fem/harmonic.hpp"
+#include "core/errors.hpp"
+#include "preprocess/harmonic.hpp"
 
 #include <petscsf.h>
 
@@ -11,6 +11,10 @@
 #include <sstream>
 
 namespace aries::fem {
+
+using core::collectiveCheck;
+using core::sharedLeafPoints;
+using core::gatherOnRoot;
 
 namespace {
 

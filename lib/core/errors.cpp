@@ -1,10 +1,10 @@
-#include "fem/errors.hpp"
+#include "core/errors.hpp"
 
 #include <cstdio>
 #include <cstring>
 #include <vector>
 
-namespace aries::fem {
+namespace aries::core {
 
 namespace {
 std::string gProgram = "aries";
@@ -61,4 +61,4 @@ PetscErrorCode collectiveCheck(MPI_Comm comm, bool bad, const std::string &messa
   SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s", buf.data());
 }
 
-}  // namespace aries::fem
+}  // namespace aries::core

@@ -1,11 +1,11 @@
-#include "fem/options.hpp"
+#include "core/options.hpp"
 
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
 
-namespace aries::fem {
+namespace aries::core {
 
 std::string optionName(const char *prefix, const char *name) {
   std::string n = name[0] == '-' ? name + 1 : name;
@@ -149,9 +149,9 @@ PetscErrorCode optionWordList(const char *prefix, const char *name, std::vector<
   PetscFunctionReturn(0);
 }
 
-}  // namespace aries::fem
+}  // namespace aries::core
 
-namespace aries::fem {
+namespace aries::core {
 PetscErrorCode rejectUnusedOptions() {
   PetscInt n = 0;
   char **names = nullptr, **values = nullptr;
@@ -170,4 +170,4 @@ PetscErrorCode rejectUnusedOptions() {
             unused > 1 ? "s" : "", all.c_str());
   PetscFunctionReturn(0);
 }
-}  // namespace aries::fem
+}  // namespace aries::core

@@ -1,4 +1,4 @@
-#include "fem/harmonic.hpp"
+#include "preprocess/harmonic.hpp"
 
 #include <petscksp.h>
 
