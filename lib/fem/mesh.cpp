@@ -445,13 +445,18 @@ PetscErrorCode sumOverSharedVertices(const Mesh &mesh, int ncomp, std::vector<do
   std::vector<double> leaf(static_cast<size_t>(pEnd - pStart) * ncomp, 0.0);
   std::copy(values->begin(), values->end(), leaf.begin() + static_cast<size_t>(mesh.vStart - pStart) * ncomp);
   std::vector<double> root(leaf);
-  PetscCallMPI(MPI_Type_contiguous(ncomp, MPI_DOUBLE, &unit));
-  PetscCallMPI(MPI_Type_commit(&unit));
+  // One double per vertex goes as MPI_DOUBLE: PETSc 3.18's SF hands a 1-element contiguous type to MPI's own
+  // reduction, which rejects MPI_SUM on it (MPI_ERR_OP).
+  unit = MPI_DOUBLE;
+  if (ncomp > 1) {
+    PetscCallMPI(MPI_Type_contiguous(ncomp, MPI_DOUBLE, &unit));
+    PetscCallMPI(MPI_Type_commit(&unit));
+  }
   PetscCall(PetscSFReduceBegin(sf, unit, leaf.data(), root.data(), MPI_SUM));
   PetscCall(PetscSFReduceEnd(sf, unit, leaf.data(), root.data(), MPI_SUM));
   PetscCall(PetscSFBcastBegin(sf, unit, root.data(), leaf.data(), MPI_REPLACE));
   PetscCall(PetscSFBcastEnd(sf, unit, root.data(), leaf.data(), MPI_REPLACE));
-  PetscCallMPI(MPI_Type_free(&unit));
+  if (ncomp > 1) PetscCallMPI(MPI_Type_free(&unit));
   std::vector<char> isLeaf;
   PetscCall(sharedLeafPoints(mesh.dm, &isLeaf));
   for (PetscInt v = mesh.vStart; v < mesh.vEnd; ++v) {

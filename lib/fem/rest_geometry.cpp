@@ -6,7 +6,6 @@
 #include "core/errors.hpp"
 
 #include <petscdmplex.h>
-#include <petscsf.h>
 
 #include <cmath>
 #include <sstream>
@@ -14,7 +13,6 @@
 namespace aries::fem {
 
 using core::collectiveCheck;
-using core::sharedLeafPoints;
 
 namespace {
 
@@ -139,29 +137,12 @@ PetscErrorCode DiscretizationT<R, C>::checkRestCells(const Mesh &mesh, const std
 // Lumped mass: density * measure / (vertices per cell) from every owned cell, summed over the ranks sharing a vertex.
 template <int R, int C>
 PetscErrorCode DiscretizationT<R, C>::setupMass(const Mesh &mesh) {
-  PetscInt pStart, pEnd;
-  PetscSF pointSF;
-  std::vector<char> sharedCopy;
   PetscFunctionBeginUser;
-  PetscCall(DMPlexGetChart(mesh.dm, &pStart, &pEnd));
-  PetscCall(DMGetPointSF(mesh.dm, &pointSF));
-  PetscCall(sharedLeafPoints(mesh.dm, &sharedCopy));
-  const PetscInt nv = mesh.vEnd - mesh.vStart;
-  mass_.assign(nv, 0.0);
+  mass_.assign(mesh.vEnd - mesh.vStart, 0.0);
   for (const auto &cell : cells_.cells())
     if (cell.owned)
       for (int v = 0; v < NV; ++v) mass_[cell.vertex[v]] += dyn_.density * cell.measure / NV;
-  std::vector<double> leaf(pEnd - pStart, 0.0), root(pEnd - pStart, 0.0);
-  for (PetscInt v = 0; v < nv; ++v) leaf[mesh.vStart + v - pStart] = mass_[v];
-  root = leaf;
-  PetscCall(PetscSFReduceBegin(pointSF, MPI_DOUBLE, leaf.data(), root.data(), MPI_SUM));
-  PetscCall(PetscSFReduceEnd(pointSF, MPI_DOUBLE, leaf.data(), root.data(), MPI_SUM));
-  PetscCall(PetscSFBcastBegin(pointSF, MPI_DOUBLE, root.data(), leaf.data(), MPI_REPLACE));
-  PetscCall(PetscSFBcastEnd(pointSF, MPI_DOUBLE, root.data(), leaf.data(), MPI_REPLACE));
-  for (PetscInt v = 0; v < nv; ++v) {
-    const PetscInt p = mesh.vStart + v - pStart;
-    mass_[v] = !sharedCopy[p] ? root[p] : leaf[p];
-  }
+  PetscCall(sumOverSharedVertices(mesh, 1, &mass_));
   PetscFunctionReturn(0);
 }
 

@@ -17,7 +17,7 @@ struct VertexInfo {
   bool owned;
   int bcSet;        // index into BoundarySpec::sets (then the boxes), -1 if free
   Eigen::Vector3d rest;
-  bool free() const { return bcSet < 0; }
+  bool offRankFree() const { return !owned && bcSet < 0; }  // its Hessian rows go through another rank's stash
   bool ownedFree() const { return owned && bcSet < 0; }
 };
 

@@ -23,15 +23,14 @@ constexpr int kFaceSums = 7;
 
 // Boundary faces: one tet globally. Without overlap a face shared by two ranks has one local cell on each, so a face
 // counts only if it is neither a leaf nor a root with leaves of the point SF.
+// `leaf`: the point-SF leaves (core::sharedLeafPoints).
 PetscErrorCode accumulateBoundaryFaces(const Mesh &mesh, const std::vector<Eigen::Vector3d> &X,
-                                       std::vector<double> *accOut) {
+                                       const std::vector<char> &leaf, std::vector<double> *accOut) {
   DM dm = mesh.dm;
   PetscFunctionBeginUser;
   PetscInt pStart, pEnd, fStart, fEnd;
   PetscCall(DMPlexGetChart(dm, &pStart, &pEnd));
   PetscCall(DMPlexGetHeightStratum(dm, 1, &fStart, &fEnd));
-  std::vector<char> leaf;
-  PetscCall(sharedLeafPoints(dm, &leaf));
   std::vector<char> shared(leaf);
   {
     PetscSF sf;
@@ -139,13 +138,13 @@ PetscErrorCode computeCaricatureField(const Mesh &mesh, CaricatureField *field) 
   std::vector<Eigen::Vector3d> X;  // rest positions of the local vertices
   PetscCall(vertexRestPositions(mesh, &X));
 
-  constexpr int K = kFaceSums;
-  std::vector<double> acc;
-  PetscCall(accumulateBoundaryFaces(mesh, X, &acc));
   std::vector<char> leaf;
   PetscInt pStart;
   PetscCall(sharedLeafPoints(dm, &leaf));
   PetscCall(DMPlexGetChart(dm, &pStart, nullptr));
+  constexpr int K = kFaceSums;
+  std::vector<double> acc;
+  PetscCall(accumulateBoundaryFaces(mesh, X, leaf, &acc));
 
   // Surface vertex values; the object's mean curvature over owned surface vertices.
   HarmonicProblem h;

@@ -146,7 +146,7 @@ void BendingHinges::addCurvature(const PetscScalar *x, const PetscScalar *const 
 PetscInt BendingHinges::offRankHessianValues() const {
   PetscInt blocks = 0;
   for (const Hinge &h : hinges_)
-    for (PetscInt v : h.vertex) blocks += !verts_[v].owned && verts_[v].free() ? 4 : 0;
+    for (PetscInt v : h.vertex) blocks += verts_[v].offRankFree() ? 4 : 0;
   return blocks * 9;
 }
 

@@ -95,7 +95,7 @@ PetscInt ElasticCells<R, C>::offRankHessianValues() const {
   PetscInt blocks = 0;
   for (const Cell &cell : cells_)
     if (cell.owned)
-      for (int v = 0; v < NV; ++v) blocks += !verts_[cell.vertex[v]].owned && verts_[cell.vertex[v]].free() ? NV : 0;
+      for (int v = 0; v < NV; ++v) blocks += verts_[cell.vertex[v]].offRankFree() ? NV : 0;
   return blocks * R * R;
 }
 

@@ -19,7 +19,6 @@ class InertiaGravity final : public Term {
       : verts_(verts), mass_(mass), gravity_(gravity), xTilde_(localSize, 0.0) {}
   void setTimeStep(double dt) { dt_ = dt; }
   std::vector<double> &prediction() { return xTilde_; }  // local vector layout
-  bool active() const { return dt_ > 0.0 || gravity_.squaredNorm() > 0.0; }
   const char *name() const override { return "inertia and gravity"; }
   void addEnergy(const PetscScalar *x, double *energy, double *magnitude) const override;
   void addGradient(const PetscScalar *x, PetscScalar *g) const override;
