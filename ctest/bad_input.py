@@ -137,6 +137,10 @@ def case_defs():
                                     r"option -psd_eigensystem: 'svd' is not analytic\|numeric")
     d["newton_subspace_range"] = (lambda: ["-dm_plex_filename", good_mesh(), "-newton_subspace", "9"],
                                   r"option -newton_subspace must be in 0\.\.7 \(got 9\)")
+    d["newton_rotation_range"] = (lambda: ["-dm_plex_filename", good_mesh(), "-newton_rotation", "7"],
+                                  r"option -newton_rotation must be in -1\.\.6 \(got 7\)")
+    d["static_detached_start_value"] = (lambda: ["-dm_plex_filename", good_mesh(), "-static_detached_start", "maybe"],
+                                        r"-static_detached_start")
     d["newton_forcing_range"] = (lambda: ["-dm_plex_filename", good_mesh(), "-newton_forcing", "1.5"],
                                  r"option -newton_forcing must be in \[0, 1\) \(got 1\.5\)")
     d["missing_options_file"] = (lambda: ["-options_file", os.path.join(w, "nope.yml")],

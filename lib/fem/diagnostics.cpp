@@ -1,6 +1,7 @@
 // What a state looks like beyond its energy: per-cell alpha, guard, energy density, stress measures and regions; the
 // barrier mode's fallback; reactions on the Dirichlet sets; the largest displacement; and the gathers of vertex and
-// cell fields in natural (gmsh) order on rank 0 for output.
+// cell fields in natural (gmsh) order on rank 0 for output; and the rotational form of a Newton step (the spin of a
+// displacement field per vertex, -newton_rotation).
 #include "fem/discretization_impl.hpp"
 
 #include <cmath>
@@ -187,6 +188,52 @@ PetscErrorCode DiscretizationT<R, C>::maxDisplacement(Vec xLocal, PetscReal *val
   }
   PetscCall(VecRestoreArrayRead(xLocal, &x));
   PetscCallMPI(MPI_Allreduce(&m, value, 1, MPI_DOUBLE, MPI_MAX, comm()));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::rotationalStep(Vec xLocal, Vec dLocal, Vec outLocal) const {
+  PetscFunctionBeginUser;
+  PetscCall(VecCopy(dLocal, outLocal));
+  if constexpr (R == 3 && C == 3) {
+    const PetscScalar *x, *d;
+    PetscScalar *out;
+    const size_t nv = verts_.size();
+    std::vector<double> spin(4 * nv, 0.0);  // volume-weighted w and the weight, per local vertex
+    PetscCall(VecGetArrayRead(xLocal, &x));
+    PetscCall(VecGetArrayRead(dLocal, &d));
+    for (size_t c = 0; c < cells_.size(); ++c) {
+      const auto &cell = cells_.cells()[c];
+      if (!cell.owned) continue;
+      const kernels::Mat<3, 3> F = cells_.deformationGradient(c, x);
+      const double J = F.determinant();
+      if (!(J > 0.25)) continue;  // inverted or collapsed: its spin says nothing
+      const kernels::Mat<3, 3> G = cells_.deformationGradient(c, d) * F.inverse();
+      const Eigen::Vector3d w(0.5 * (G(2, 1) - G(1, 2)), 0.5 * (G(0, 2) - G(2, 0)), 0.5 * (G(1, 0) - G(0, 1)));
+      for (PetscInt v : cell.vertex) {
+        for (int i = 0; i < 3; ++i) spin[4 * v + i] += cell.measure * w[i];
+        spin[4 * v + 3] += cell.measure;
+      }
+    }
+    PetscCall(sumOverSharedVertices(*mesh_, 4, &spin));
+    PetscCall(VecGetArray(outLocal, &out));
+    for (size_t v = 0; v < nv; ++v) {
+      const VertexInfo &vi = verts_[v];
+      if (vi.bcSet >= 0 || spin[4 * v + 3] <= 0.0) continue;
+      const Eigen::Vector3d w = Eigen::Vector3d(spin[4 * v], spin[4 * v + 1], spin[4 * v + 2]) / spin[4 * v + 3];
+      const double theta = w.norm();
+      if (theta < 1e-8) continue;
+      const Eigen::Vector3d p(d[vi.loc], d[vi.loc + 1], d[vi.loc + 2]);
+      const Eigen::Vector3d axis = w / theta;
+      const Eigen::Vector3d pAxial = axis.dot(p) * axis, pPerp = p - pAxial;
+      const Eigen::Vector3d rPerp = pPerp.cross(w) / (theta * theta);  // p_perp = w x r_perp
+      const Eigen::Vector3d delta = pAxial + std::sin(theta) / theta * pPerp + (std::cos(theta) - 1.0) * rPerp;
+      for (int i = 0; i < 3; ++i) out[vi.loc + i] = delta[i];
+    }
+    PetscCall(VecRestoreArray(outLocal, &out));
+    PetscCall(VecRestoreArrayRead(dLocal, &d));
+    PetscCall(VecRestoreArrayRead(xLocal, &x));
+  }
   PetscFunctionReturn(0);
 }
 

@@ -22,7 +22,7 @@ double Discretization::characteristicModulus() const {
 }
 
 template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::setup(Mesh &mesh, double dt) {
+PetscErrorCode DiscretizationT<R, C>::setup(Mesh &mesh, double dt, bool detached) {
   PetscFunctionBeginUser;
   mesh_ = &mesh;
   dofs_ = R;
@@ -34,18 +34,22 @@ PetscErrorCode DiscretizationT<R, C>::setup(Mesh &mesh, double dt) {
   PetscCall(vertexRestPositions(mesh, &rest));
   std::vector<PetscInt> bcFlag;
   PetscCall(markDirichlet(mesh, rest, &bcFlag));
+  if (detached) {  // the supports are read (and checked) but hold no vertex; no gravity
+    std::fill(bcFlag.begin(), bcFlag.end(), PETSC_MAX_INT);
+    dyn_.gravity.setZero();
+  }
   PetscCall(layoutDofs(mesh, rest, bcFlag));
   PetscCall(setupRestCells(mesh, regionLabels));
   PetscCall(setupCellData(mesh, regionCells, !regionLabels.empty()));
   PetscCall(setupMass(mesh));
-  PetscCall(setupTerms(mesh, dt));
+  PetscCall(setupTerms(mesh, dt, detached));
   PetscFunctionReturn(0);
 }
 
 // The terms of the total potential, in assembly order: elastic cells, cloth bending hinges (-bending, surfaces in
 // 3D), contact with analytic obstacles (3D meshes), inertia and gravity. Options are read only where they apply.
 template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::setupTerms(Mesh &mesh, double dt) {
+PetscErrorCode DiscretizationT<R, C>::setupTerms(Mesh &mesh, double dt, bool detached) {
   PetscBool set = PETSC_FALSE;
   PetscFunctionBeginUser;
   terms_ = {&cells_};
@@ -80,7 +84,7 @@ PetscErrorCode DiscretizationT<R, C>::setupTerms(Mesh &mesh, double dt) {
                                       : characteristicModulus() * std::pow(perVertex, 1.0 - 2.0 / C);
     contact_ = std::make_unique<ObstacleContact>(verts_);
     PetscCall(contact_->read(mesh, stiffness));
-    if (!contact_->empty()) terms_.push_back(contact_.get());
+    if (!contact_->empty() && !detached) terms_.push_back(contact_.get());
   }
   PetscSection localSection;
   PetscInt localSize;
@@ -166,28 +170,61 @@ PetscErrorCode DiscretizationT<R, C>::lumpedMass(Vec massGlobal) const {
   PetscFunctionReturn(0);
 }
 
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::vertexPositions(Vec xLocal, std::vector<double> *xyz) const {
+  const PetscScalar *x;
+  PetscFunctionBeginUser;
+  xyz->assign(3 * verts_.size(), 0.0);
+  PetscCall(VecGetArrayRead(xLocal, &x));
+  for (size_t v = 0; v < verts_.size(); ++v)
+    for (int i = 0; i < R; ++i) (*xyz)[3 * v + i] = x[verts_[v].loc + i];
+  PetscCall(VecRestoreArrayRead(xLocal, &x));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::setFreePositions(const std::vector<double> &xyz, Vec xGlobal) const {
+  PetscScalar *x;
+  PetscInt lo;
+  PetscFunctionBeginUser;
+  PetscCall(VecGetOwnershipRange(xGlobal, &lo, nullptr));
+  PetscCall(VecGetArray(xGlobal, &x));
+  for (size_t v = 0; v < verts_.size(); ++v)
+    if (verts_[v].ownedFree())
+      for (int i = 0; i < R; ++i) x[verts_[v].global - lo + i] = xyz[3 * v + i];
+  PetscCall(VecRestoreArray(xGlobal, &x));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+void DiscretizationT<R, C>::ownedSupportedVertices(std::vector<PetscInt> *local) const {
+  local->clear();
+  for (size_t v = 0; v < verts_.size(); ++v)
+    if (verts_[v].owned && verts_[v].bcSet >= 0) local->push_back(static_cast<PetscInt>(v));
+}
+
 template class DiscretizationT<3, 3>;
 template class DiscretizationT<2, 2>;
 template class DiscretizationT<3, 2>;
 
-PetscErrorCode Discretization::create(Mesh &mesh, double dt, std::unique_ptr<Discretization> *out) {
+PetscErrorCode Discretization::create(Mesh &mesh, double dt, std::unique_ptr<Discretization> *out, bool detached) {
   PetscFunctionBeginUser;
   switch (mesh.shape) {
     case ElementShape::Tet: {
       auto d = std::make_unique<DiscretizationT<3, 3>>();
-      PetscCall(d->setup(mesh, dt));
+      PetscCall(d->setup(mesh, dt, detached));
       *out = std::move(d);
       break;
     }
     case ElementShape::Planar: {
       auto d = std::make_unique<DiscretizationT<2, 2>>();
-      PetscCall(d->setup(mesh, dt));
+      PetscCall(d->setup(mesh, dt, detached));
       *out = std::move(d);
       break;
     }
     case ElementShape::Cloth: {
       auto d = std::make_unique<DiscretizationT<3, 2>>();
-      PetscCall(d->setup(mesh, dt));
+      PetscCall(d->setup(mesh, dt, detached));
       *out = std::move(d);
       break;
     }

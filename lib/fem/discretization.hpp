@@ -42,7 +42,10 @@ class Discretization {
   // Reads the material (global and -regions), -fiber_file, -density, -gravity and the boundary options; builds the
   // section, the rest data and the mass. `dt` is the time step of backward Euler (0 for static runs), the scale of
   // the contact stiffness's default. Collective.
-  static PetscErrorCode create(Mesh &mesh, double dt, std::unique_ptr<Discretization> *out);
+  // `detached`: the body without its supports, for the first phase of a static solve from a synthetic start
+  // (solver/detached_start.cpp): no Dirichlet vertices, and only the elastic terms (no gravity, no contact). Its
+  // mesh must carry its own DM (a DMClone of the supported one's), since the DOF layout is set on it.
+  static PetscErrorCode create(Mesh &mesh, double dt, std::unique_ptr<Discretization> *out, bool detached = false);
 
   DM dm() const { return mesh_->dm; }
   const Mesh &mesh() const { return *mesh_; }
@@ -132,6 +135,16 @@ class Discretization {
   // internal force dE/dx (collective). Pulling a bar by +d gives a reaction along +d.
   virtual PetscErrorCode reactionForce(Vec xLocal, size_t set, Eigen::Vector3d *force) const = 0;
 
+  // Positions of every local vertex at a local state (boundary filled), 3 per vertex in local vertex order (v - vStart;
+  // z = 0 for planar unknowns); and the inverse for the owned free vertices of a global vector.
+  virtual PetscErrorCode vertexPositions(Vec xLocal, std::vector<double> *xyz) const = 0;
+  virtual PetscErrorCode setFreePositions(const std::vector<double> &xyz, Vec xGlobal) const = 0;
+  // Local indices (v - vStart) of the owned Dirichlet vertices.
+  virtual void ownedSupportedVertices(std::vector<PetscInt> *local) const = 0;
+  // Rotational form of a displacement field d at a state x (local vectors, zeros at Dirichlet dofs): each vertex's
+  // share of d that is a rotation by its local spin w (the skew part of grad_x d, averaged over its non-inverted
+  // cells) is replaced by the exact rotation by |w| instead of the tangent step. out = d where w = 0. Collective.
+  virtual PetscErrorCode rotationalStep(Vec xLocal, Vec dLocal, Vec outLocal) const = 0;
   // Maximum distance of any vertex to its rest position (collective).
   virtual PetscErrorCode maxDisplacement(Vec xLocal, PetscReal *value) const = 0;
 

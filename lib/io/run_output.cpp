@@ -113,7 +113,7 @@ PetscErrorCode RunOutput::setup(const OutputOptions &opts, const CheckpointOptio
   if (!opts.newtonHistory.empty()) {
     if (rank == 0) {
       history_ = makeParentDirectory(opts.newtonHistory) ? std::fopen(opts.newtonHistory.c_str(), "w") : nullptr;
-      if (history_) std::fprintf(history_, "step,iteration,energy,residual,step_inf,lambda,ksp_its,filter,subspace\n");
+      if (history_) std::fprintf(history_, "step,iteration,energy,residual,step_inf,lambda,ksp_its,filter,subspace,rotation\n");
     }
     PetscCall(core::collectiveCheck(comm_, rank == 0 && !history_,
                                    "cannot open Newton history file '" + opts.newtonHistory +
@@ -265,9 +265,9 @@ PetscErrorCode RunOutput::afterStep(const solver::Simulation &sim, const solver:
   PetscCall(DMRestoreLocalVector(disc.dm(), &xLocal));
   if (history_) {
     for (const auto &h : rep.newton.history)
-      std::fprintf(history_, "%d,%d,%.17g,%.6e,%.6e,%.6g,%d,%s,%d\n", (int)rep.step, (int)h.iteration, h.energy,
+      std::fprintf(history_, "%d,%d,%.17g,%.6e,%.6e,%.6g,%d,%s,%d,%g\n", (int)rep.step, (int)h.iteration, h.energy,
                    h.residual, h.stepInf, h.lambda, (int)h.linearIterations,
-                   h.filter == 'a' ? "abs" : h.filter == 'n' ? "none" : "clamp", h.accelerated ? 1 : 0);
+                   h.filter == 'a' ? "abs" : h.filter == 'n' ? "none" : "clamp", h.accelerated ? 1 : 0, h.rotation);
     std::fflush(history_);
   }
   const std::string halved =

@@ -15,7 +15,10 @@ NewtonResult &NewtonResult::operator+=(const NewtonResult &o) {
   linearAtLimit += o.linearAtLimit;
   safeguardHalvings += o.safeguardHalvings;
   reason = o.reason;
-  convergence = o.convergence;
+  // A part that converged without an update (a load sub-step, the supported phase after a detached start) after
+  // parts that did update: the step as a whole converged by the Newton step criterion.
+  const bool updatedBefore = newtonIterations > o.newtonIterations;
+  convergence = o.convergence == Convergence::Initial && updatedBefore ? Convergence::NewtonStep : o.convergence;
   residualNorm = o.residualNorm;
   barrierFallbackCells = std::max(barrierFallbackCells, o.barrierFallbackCells);
   barrierActiveCells = std::max(barrierActiveCells, o.barrierActiveCells);
@@ -181,6 +184,10 @@ PetscErrorCode NewtonSolver::readOptions(bool dynamic) {
       SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -newton_subspace_max must be 0 (no limit) or >= 1 (got %g)",
               subspaceMax_);
   }
+  rotation_ = dynamic ? -1 : 3;
+  PetscCall(core::optionInt(nullptr, "-newton_rotation", &rotation_, &set));
+  if (rotation_ < -1 || rotation_ > 6)
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -newton_rotation must be in -1..6 (got %d)", (int)rotation_);
   PetscCall(core::optionReal(nullptr, "-newton_forcing", &forcing_, &set));
   if (!(forcing_ >= 0.0 && forcing_ < 1.0))
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -newton_forcing must be in [0, 1) (got %g)", forcing_);
@@ -219,6 +226,9 @@ PetscErrorCode NewtonSolver::setup(fem::Discretization &disc, bool dynamic, doub
   if (set) PetscCall(DMSetMatType(dm, matType.c_str()));
   PetscCall(DMCreateMatrix(dm, &J_));
   PetscCall(MatSetOption(J_, MAT_SYMMETRIC, PETSC_TRUE));
+  PetscBool symmetricStorage;  // SBAIJ keeps the upper triangle: the element blocks below the diagonal are dropped
+  PetscCall(PetscObjectTypeCompareAny((PetscObject)J_, &symmetricStorage, MATSBAIJ, MATSEQSBAIJ, MATMPISBAIJ, ""));
+  if (symmetricStorage) PetscCall(MatSetOption(J_, MAT_IGNORE_LOWER_TRIANGULAR, PETSC_TRUE));
   PetscCall(SNESSetJacobian(snes_, J_, J_, nullptr, nullptr));
   PetscCall(DMCreateGlobalVector(dm, &work_));
   PetscCall(VecDuplicate(work_, &prevX_));

@@ -18,6 +18,12 @@
 //    span{Newton direction, last m updates}, a Newton-preconditioned nonlinear-CG / SESOP step. Filtering makes the
 //    model of inverted and compressed elements stiffer than they are, so plain projected Newton converges linearly
 //    with steps that are too short; the exact curvature in a small subspace restores the step length and direction.
+//  * Rotational update (-newton_rotation K): a Newton step is linear in the positions, so it can only turn a part of
+//    the body along the tangent of its rotation (stretching it); where the direction is locally a rotation (its spin,
+//    the skew part of grad_x of the step, averaged per vertex) the vertex follows the circle by the same angle
+//    instead, and up to K doublings of that angle are tried while the energy falls. Taken only where it lowers the
+//    energy more than the plain direction and stays a descent direction. Unwinding a body twisted about its
+//    supports (static solves from scrambled starts) otherwise takes dozens of short Newton steps.
 //  * The alpha safeguard (paper Sec. 4.2) as line-search pre/post checks: no accepted step takes an element whose
 //    alpha is at or above the top of its singular band to below -alpha_min; the step is halved until it holds. The
 //    band is [0, mollifier eps) for elements evaluated with the mollifier (there the I4/I6 terms are the constant
@@ -55,6 +61,7 @@ struct IterationRecord {
   PetscInt linearIterations = 0;
   char filter = 'c';        // element Hessian filter of this iteration: c(lamp), a(bs), n(one)
   bool accelerated = false; // the update used the subspace step
+  double rotation = 0.0;    // the rotational update's angle scale (1, 2, 4, ...; 0: plain direction)
 };
 
 struct NewtonResult {
@@ -93,6 +100,10 @@ class NewtonSolver {
   // Total potential at a global state (Dirichlet values filled); `magnitude` as in Discretization::objective.
   PetscErrorCode energyAt(Vec xGlobal, PetscReal *value, PetscReal *magnitude);
   double alphaMin() const { return alphaMin_; }
+  // A body without supports (the detached start): its energy is invariant under rigid motions, so the Newton
+  // direction's rigid-motion share (which CG on the singular system leaves undetermined) is removed before the
+  // convergence test and the line search.
+  void setFloating(bool floating) { floating_ = floating; }
   double stepTolerance() const { return stepTol_; }
   SNES snes() const { return snes_; }
   PetscInt totalHalvings() const { return halvingsTotal_; }
@@ -106,6 +117,9 @@ class NewtonSolver {
   PetscErrorCode gram(Vec X, const std::vector<Vec> &directions, std::vector<double> *G);
   PetscErrorCode certify(Vec X, Vec Y, Vec F, PetscInt iter, bool *converged);
   PetscErrorCode accelerate(Vec X, Vec Y, Vec F, PetscBool *changed);
+  PetscErrorCode rotate(Vec X, Vec Y, Vec F, PetscBool *changed);  // the rotational update (-newton_rotation)
+  PetscErrorCode rotationalCandidate(Vec X, Vec Y, double scale, Vec cand, PetscReal *energy);
+  PetscErrorCode removeRigidMotion(Vec X, Vec Y);
   PetscErrorCode safeguard(Vec X, Vec Y, PetscBool *changed);
   PetscErrorCode finishUpdate(Vec xNew);  // after an update: line-search length, adaptive filter, subspace limit
   void declareConverged(Convergence how);
@@ -136,6 +150,8 @@ class NewtonSolver {
   double adaptiveTol_ = 0.01;
   PetscInt subspace_ = 1;
   double subspaceMax_ = 0.0;   // limit of the Newton direction's coefficient in a subspace step (0: none)
+  bool floating_ = false;
+  PetscInt rotation_ = -1;      // rotational update: -1 off, else the number of angle doublings tried
   bool useInertiaGuess_ = true;
   double forcing_ = 0.0;
   PetscReal baseRtol_ = 1e-6;  // the linear solve's tolerance without forcing (certifying solves)

@@ -2,6 +2,7 @@
 // the alpha safeguard, the convergence tests on the Newton direction, the subspace step and the bookkeeping of each
 // update. Setup, options and the solve loop are in newton.cpp.
 #include "solver/newton.hpp"
+#include "solver/local_vec.hpp"
 
 #include "core/options.hpp"
 
@@ -26,29 +27,6 @@ constexpr double kSubspaceConditioning = 1e-8;
 // The alpha safeguard guards a cell only from kGuardMargin * alpha_min up (see alphaAcceptable).
 constexpr double kGuardMargin = 2.0;
 
-// Scoped local copy of a global vector (zeros at the Dirichlet dofs unless the boundary is filled).
-class LocalVec {
- public:
-  explicit LocalVec(DM dm) : dm_(dm) {}
-  LocalVec(const LocalVec &) = delete;
-  LocalVec &operator=(const LocalVec &) = delete;
-  ~LocalVec() {
-    if (v_) DMRestoreLocalVector(dm_, &v_);
-  }
-  PetscErrorCode fromGlobal(Vec g, const fem::Discretization *fillBoundaryOf) {
-    PetscFunctionBeginUser;
-    PetscCall(DMGetLocalVector(dm_, &v_));
-    PetscCall(VecSet(v_, 0.0));
-    PetscCall(DMGlobalToLocal(dm_, g, INSERT_VALUES, v_));
-    if (fillBoundaryOf) PetscCall(fillBoundaryOf->fillBoundary(v_));
-    PetscFunctionReturn(0);
-  }
-  Vec get() const { return v_; }
-
- private:
-  DM dm_;
-  Vec v_ = nullptr;
-};
 
 }  // namespace
 
@@ -448,6 +426,7 @@ PetscErrorCode NewtonSolver::preCheck(SNESLineSearch, Vec X, Vec Y, PetscBool *c
   self->halved_ = false;
   self->haveCurvature_ = false;
 
+  if (self->floating_) PetscCall(self->removeRigidMotion(X, Y));
   bool converged = false;
   PetscCall(self->certify(X, Y, F, iter, &converged));
   if (converged) {
@@ -465,6 +444,7 @@ PetscErrorCode NewtonSolver::preCheck(SNESLineSearch, Vec X, Vec Y, PetscBool *c
     PetscFunctionReturn(0);
   }
   PetscCall(self->accelerate(X, Y, F, changed));
+  PetscCall(self->rotate(X, Y, F, changed));
   if (self->filterMode_ == EigenFilterMode::Adaptive && !self->haveCurvature_) {
     std::vector<double> G;
     PetscCall(self->gram(X, {Y}, &G));

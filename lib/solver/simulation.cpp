@@ -59,6 +59,11 @@ PetscErrorCode readSimulationOptions(SimulationOptions *o) {
               o->scrambleVolumeRatio);
     PetscCall(core::optionInt(nullptr, "-scramble_seed", &o->scrambleSeed, &set));
   }
+  if (o->integrator == Integrator::Static) {  // applies to synthetic starts only (not rest, tutte or a restart)
+    PetscBool detached = PETSC_TRUE;
+    PetscCall(core::optionBool(nullptr, "-static_detached_start", &detached, &set));
+    o->detachedStart = detached && o->initial != InitialState::Rest && o->initial != InitialState::Tutte;
+  }
   if (o->integrator == Integrator::BackwardEuler) {
     PetscBool ps = PETSC_TRUE;
     PetscCall(core::optionBool(nullptr, "-predictor_start", &ps, &set));
@@ -264,7 +269,7 @@ PetscErrorCode Simulation::solveToLoad(double loadTarget, NewtonResult *acc, boo
     PetscCall(newton_.solve(x_, &r));
     PetscCall(PetscLogStagePop());
     *acc += r;
-    *reason = reasonName(r);
+    *reason = reasonName(*acc);  // the step's: converged_initial only if nothing in it updated the state
     if (!r.converged()) {
       *ok = false;
       PetscFunctionReturn(0);
@@ -365,6 +370,7 @@ PetscErrorCode Simulation::run(StepObserver *observer, RunSummary *summary) {
     rep.step = step;
     rep.steps = steps;
     rep.time = startTime + static_cast<double>(step - first + 1) * opts_.dt;
+    if (step == 1 && opts_.detachedStart) PetscCall(detachedStart(&rep.newton));
     PetscCall(advance(opts_.dt, loadTarget, 0, &rep.newton, &rep.ok, &rep.reason));
     time_ = rep.time;
     completedSteps_ = step;

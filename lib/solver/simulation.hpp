@@ -30,6 +30,7 @@ struct SimulationOptions {
   PetscInt maxStepHalvings = 6;
   PetscInt maxLoadHalvings = 20;
   bool predictorStart = false;  // -predictor_start (backward Euler; on by default there)
+  bool detachedStart = false;   // -static_detached_start (static runs from a synthetic start; on by default there)
 };
 
 PetscErrorCode readSimulationOptions(SimulationOptions *opts);
@@ -89,6 +90,7 @@ class Simulation {
 
  private:
   PetscErrorCode applyInitialState();
+  PetscErrorCode detachedStart(NewtonResult *acc);  // detached_start.cpp
   PetscErrorCode advance(double dt, double loadTarget, int depth, NewtonResult *acc, bool *ok, std::string *reason);
   PetscErrorCode startFromPrediction();
   PetscErrorCode setLoad(double s);

@@ -89,6 +89,11 @@ CATALOG = {
         "default": {"h": 0.031, "tets": 34096},
         "paper": {"alias": "default"},
     },
+    "camel": {
+        "test": {"h": 0.06, "tets": 1832},
+        "default": {"h": 0.025, "tets": 16638},
+        "paper": {"alias": "default"},
+    },
     # triangle surface meshes
     "cloth": {
         "test": {"n": 16, "triangles": 2 * 16 ** 2},
@@ -120,6 +125,7 @@ PAPER = {  # the paper's meshes (Table 1: tets, Table 2: cloth triangles), for t
     "octopus": "308,200",
     "triceratops": "(not in the paper)",
     "hand": "(not in the paper)",
+    "camel": "(not in the paper)",
     "cloth": "32,768",
     "disk": "(not in the paper)",
     "lionhead": "Fig. 14 (count not given)",
@@ -236,6 +242,7 @@ SOURCE_SHA256 = {
     "data/meshes/bunny00.off": "ab651cb04955c161efaeb079035a1e5e1f0e0d1f816a2df67beaea68f393ff2b",
     "data/meshes/triceratops.off": "0fb444933884486a09eb4329a832f15ab792590f2a5bb75385d157e654ddbf5c",
     "data/meshes/hand.off": "cfcf1562726167ca704a091a8651bfd1d72f6eb96b4b2819321f0520721b35c7",
+    "data/meshes/camel.off": "9ac960a9fee27e6fcc6baaa2340260834625084ee20f4a97194212404e650a22",
     "data/meshes/lion-head.off": "cf159eeb12a3f3f345e57448693e9f0d115f3f6f38fd1d4519b336cede849289",
     "data/meshes/nefertiti.off": "d8b13239b988d0262fbc91e88da1d314eeb1b284c327a3fe76089c2b54886ccf",
 }
@@ -403,6 +410,7 @@ def build_bunny(p):
 #   hand: a clenched fist cut flat at the wrist, source already normalised to a largest extent of 1.
 TRICERATOPS_SCALE = 0.07
 HAND_SCALE = 1.0
+CAMEL_SCALE = 1.05
 
 
 def build_cgal_solid(member, scale, p):
@@ -423,6 +431,10 @@ def build_triceratops(p):
 
 def build_hand(p):
     return build_cgal_solid("data/meshes/hand.off", HAND_SCALE, p)
+
+
+def build_camel(p):
+    return build_cgal_solid("data/meshes/camel.off", CAMEL_SCALE, p)
 
 
 def build_octopus(p):
@@ -590,7 +602,7 @@ def build_nefertiti(p):
 
 BUILDERS = {"cylinder": build_cylinder, "cube": build_cube, "armadillo": build_armadillo,
             "bunny": build_bunny, "octopus": build_octopus, "triceratops": build_triceratops,
-            "hand": build_hand, "cloth": build_cloth, "disk": build_disk,
+            "hand": build_hand, "camel": build_camel, "cloth": build_cloth, "disk": build_disk,
             "lionhead": build_lionhead, "nefertiti": build_nefertiti}
 
 

@@ -1,0 +1,110 @@
+// Static solves from a synthetic start (-initial scramble, invert, collapse_*): the body is first relaxed without its
+// supports, then moved rigidly onto them, and only then solved with them (-static_detached_start, on by default).
+//
+// Why: from a scrambled start the supported solve first gathers the body into its rest shape in whatever orientation
+// the scramble suggests, then has to turn it back into its supports' orientation. Turned by a large angle relative
+// to its supports, the body is twisted in the few cell layers next to them; Newton unwinds such a twist slowly (tens
+// of short steps; the hand test mesh, seed 3: 87 updates), and where several supports hold separate limbs (a
+// quadruped pinned at its feet) the twisted limbs can be a local minimum of the elastic energy: the solve converges
+// to an equilibrium far from rest. Without supports nothing can twist: the body relaxes to its rest shape up to a
+// rigid motion, and the rigid motion that best fits its supported vertices onto their prescribed positions (Kabsch)
+// puts it onto them. The supported solve then starts from there (at rest when the supports hold the rest shape).
+// The Newton updates, linear solves and history of both phases are the step's.
+#include "solver/simulation.hpp"
+
+#include <Eigen/SVD>
+
+namespace aries::solver {
+
+namespace {
+
+// The proper rigid motion y = R p + t that best maps the points p_i onto t_i (least squares; Kabsch), from the
+// owned supported vertices of every rank. One point: a translation.
+PetscErrorCode fitRigidMotion(MPI_Comm comm, const std::vector<PetscInt> &vertices, const std::vector<double> &from,
+                              const std::vector<double> &to, Eigen::Matrix3d *R, Eigen::Vector3d *t) {
+  PetscFunctionBeginUser;
+  double sums[16] = {0.0};  // count, sum p, sum q, sum p q^T
+  for (PetscInt v : vertices) {
+    const Eigen::Vector3d p(from[3 * v], from[3 * v + 1], from[3 * v + 2]);
+    const Eigen::Vector3d q(to[3 * v], to[3 * v + 1], to[3 * v + 2]);
+    sums[0] += 1.0;
+    for (int i = 0; i < 3; ++i) {
+      sums[1 + i] += p[i];
+      sums[4 + i] += q[i];
+      for (int j = 0; j < 3; ++j) sums[7 + 3 * i + j] += p[i] * q[j];
+    }
+  }
+  double total[16];
+  PetscCallMPI(MPI_Allreduce(sums, total, 16, MPI_DOUBLE, MPI_SUM, comm));
+  const double n = total[0];
+  const Eigen::Vector3d pMean = Eigen::Vector3d(total[1], total[2], total[3]) / n;
+  const Eigen::Vector3d qMean = Eigen::Vector3d(total[4], total[5], total[6]) / n;
+  Eigen::Matrix3d H;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) H(i, j) = total[7 + 3 * i + j] - n * pMean[i] * qMean[j];
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+  D(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0.0 ? -1.0 : 1.0;
+  *R = svd.matrixV() * D * svd.matrixU().transpose();
+  *t = qMean - *R * pMean;
+  PetscFunctionReturn(0);
+}
+
+}  // namespace
+
+PetscErrorCode Simulation::detachedStart(NewtonResult *acc) {
+  MPI_Comm comm;
+  PetscFunctionBeginUser;
+  if (disc_->dofsPerVertex() != 3 || disc_->numBoundaryVerticesGlobal() == 0) PetscFunctionReturn(0);
+  PetscCall(PetscObjectGetComm((PetscObject)x_, &comm));
+  // The detached body: the same mesh on a DM clone (its own DOF layout), no supports, elastic terms only.
+  fem::Mesh mesh = disc_->mesh();  // (copies the metadata; the DM is replaced before anything can destroy it)
+  mesh.dm = nullptr;
+  PetscCall(DMClone(disc_->dm(), &mesh.dm));
+  std::unique_ptr<fem::Discretization> detached;
+  PetscCall(fem::Discretization::create(mesh, 0.0, &detached, true));
+  fem::StepState step = disc_->step();
+  step.dt = 0.0;
+  step.prediction = nullptr;
+  PetscCall(detached->setStep(step));
+
+  Vec local, y;
+  std::vector<double> start, relaxed;
+  PetscCall(DMGetLocalVector(disc_->dm(), &local));
+  PetscCall(localState(local));
+  PetscCall(disc_->vertexPositions(local, &start));  // supported vertices at their current prescribed positions
+  PetscCall(DMRestoreLocalVector(disc_->dm(), &local));
+  PetscCall(DMCreateGlobalVector(detached->dm(), &y));
+  PetscCall(detached->setFreePositions(start, y));
+
+  NewtonResult result;
+  {
+    NewtonSolver newton;
+    PetscCall(newton.setup(*detached, false, 0.0));
+    newton.setFloating(true);
+    PetscCall(newton.solve(y, &result));
+  }
+  *acc += result;
+  if (result.converged()) {
+    PetscCall(DMGetLocalVector(detached->dm(), &local));
+    PetscCall(VecSet(local, 0.0));
+    PetscCall(DMGlobalToLocal(detached->dm(), y, INSERT_VALUES, local));
+    PetscCall(detached->vertexPositions(local, &relaxed));
+    PetscCall(DMRestoreLocalVector(detached->dm(), &local));
+    std::vector<PetscInt> supported;
+    disc_->ownedSupportedVertices(&supported);
+    Eigen::Matrix3d R;
+    Eigen::Vector3d t;
+    PetscCall(fitRigidMotion(comm, supported, relaxed, start, &R, &t));
+    for (size_t v = 0; 3 * v < relaxed.size(); ++v) {
+      const Eigen::Vector3d p = R * Eigen::Vector3d(relaxed[3 * v], relaxed[3 * v + 1], relaxed[3 * v + 2]) + t;
+      for (int i = 0; i < 3; ++i) relaxed[3 * v + i] = p[i];
+    }
+    PetscCall(disc_->setFreePositions(relaxed, x_));
+  }  // else the supported solve starts from the synthetic state as it would without this phase
+  PetscCall(VecDestroy(&y));
+  detached.reset();
+  PetscFunctionReturn(0);
+}
+
+}  // namespace aries::solver
