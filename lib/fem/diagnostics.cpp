@@ -192,38 +192,52 @@ PetscErrorCode DiscretizationT<R, C>::maxDisplacement(Vec xLocal, PetscReal *val
 }
 
 template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::rotationalStep(Vec xLocal, Vec dLocal, Vec outLocal) const {
+PetscErrorCode DiscretizationT<R, C>::vertexSpin(Vec xLocal, Vec dLocal, std::vector<double> *spin) const {
   PetscFunctionBeginUser;
-  PetscCall(VecCopy(dLocal, outLocal));
+  spin->assign(3 * verts_.size(), 0.0);
   if constexpr (R == 3 && C == 3) {
     const PetscScalar *x, *d;
-    PetscScalar *out;
-    const size_t nv = verts_.size();
-    std::vector<double> spin(4 * nv, 0.0);  // volume-weighted w and the weight, per local vertex
+    std::vector<double> sum(4 * verts_.size(), 0.0);  // volume-weighted w and the weight, per local vertex
     PetscCall(VecGetArrayRead(xLocal, &x));
     PetscCall(VecGetArrayRead(dLocal, &d));
     for (size_t c = 0; c < cells_.size(); ++c) {
       const auto &cell = cells_.cells()[c];
       if (!cell.owned) continue;
       const kernels::Mat<3, 3> F = cells_.deformationGradient(c, x);
-      const double J = F.determinant();
-      if (!(J > 0.25)) continue;  // inverted or collapsed: its spin says nothing
+      if (!(F.determinant() > 0.25)) continue;  // inverted or collapsed: its spin says nothing
       const kernels::Mat<3, 3> G = cells_.deformationGradient(c, d) * F.inverse();
       const Eigen::Vector3d w(0.5 * (G(2, 1) - G(1, 2)), 0.5 * (G(0, 2) - G(2, 0)), 0.5 * (G(1, 0) - G(0, 1)));
       for (PetscInt v : cell.vertex) {
-        for (int i = 0; i < 3; ++i) spin[4 * v + i] += cell.measure * w[i];
-        spin[4 * v + 3] += cell.measure;
+        for (int i = 0; i < 3; ++i) sum[4 * v + i] += cell.measure * w[i];
+        sum[4 * v + 3] += cell.measure;
       }
     }
-    PetscCall(sumOverSharedVertices(*mesh_, 4, &spin));
+    PetscCall(VecRestoreArrayRead(dLocal, &d));
+    PetscCall(VecRestoreArrayRead(xLocal, &x));
+    PetscCall(sumOverSharedVertices(*mesh_, 4, &sum));
+    for (size_t v = 0; v < verts_.size(); ++v)
+      if (sum[4 * v + 3] > 0.0)
+        for (int i = 0; i < 3; ++i) (*spin)[3 * v + i] = sum[4 * v + i] / sum[4 * v + 3];
+  }
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::turnBySpin(const std::vector<double> &spin, Vec dLocal, double scale,
+                                                 Vec outLocal) const {
+  PetscFunctionBeginUser;
+  PetscCall(VecAXPBY(outLocal, scale, 0.0, dLocal));
+  if constexpr (R == 3) {
+    const PetscScalar *d;
+    PetscScalar *out;
+    PetscCall(VecGetArrayRead(dLocal, &d));
     PetscCall(VecGetArray(outLocal, &out));
-    for (size_t v = 0; v < nv; ++v) {
+    for (size_t v = 0; v < verts_.size(); ++v) {
       const VertexInfo &vi = verts_[v];
-      if (vi.bcSet >= 0 || spin[4 * v + 3] <= 0.0) continue;
-      const Eigen::Vector3d w = Eigen::Vector3d(spin[4 * v], spin[4 * v + 1], spin[4 * v + 2]) / spin[4 * v + 3];
+      const Eigen::Vector3d w = scale * Eigen::Vector3d(spin[3 * v], spin[3 * v + 1], spin[3 * v + 2]);
       const double theta = w.norm();
-      if (theta < 1e-8) continue;
-      const Eigen::Vector3d p(d[vi.loc], d[vi.loc + 1], d[vi.loc + 2]);
+      if (vi.bcSet >= 0 || theta < 1e-8) continue;
+      const Eigen::Vector3d p = scale * Eigen::Vector3d(d[vi.loc], d[vi.loc + 1], d[vi.loc + 2]);
       const Eigen::Vector3d axis = w / theta;
       const Eigen::Vector3d pAxial = axis.dot(p) * axis, pPerp = p - pAxial;
       const Eigen::Vector3d rPerp = pPerp.cross(w) / (theta * theta);  // p_perp = w x r_perp
@@ -232,7 +246,6 @@ PetscErrorCode DiscretizationT<R, C>::rotationalStep(Vec xLocal, Vec dLocal, Vec
     }
     PetscCall(VecRestoreArray(outLocal, &out));
     PetscCall(VecRestoreArrayRead(dLocal, &d));
-    PetscCall(VecRestoreArrayRead(xLocal, &x));
   }
   PetscFunctionReturn(0);
 }

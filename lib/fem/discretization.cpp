@@ -183,20 +183,6 @@ PetscErrorCode DiscretizationT<R, C>::vertexPositions(Vec xLocal, std::vector<do
 }
 
 template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::setFreePositions(const std::vector<double> &xyz, Vec xGlobal) const {
-  PetscScalar *x;
-  PetscInt lo;
-  PetscFunctionBeginUser;
-  PetscCall(VecGetOwnershipRange(xGlobal, &lo, nullptr));
-  PetscCall(VecGetArray(xGlobal, &x));
-  for (size_t v = 0; v < verts_.size(); ++v)
-    if (verts_[v].ownedFree())
-      for (int i = 0; i < R; ++i) x[verts_[v].global - lo + i] = xyz[3 * v + i];
-  PetscCall(VecRestoreArray(xGlobal, &x));
-  PetscFunctionReturn(0);
-}
-
-template <int R, int C>
 void DiscretizationT<R, C>::ownedSupportedVertices(std::vector<PetscInt> *local) const {
   local->clear();
   for (size_t v = 0; v < verts_.size(); ++v)

@@ -136,15 +136,17 @@ class Discretization {
   virtual PetscErrorCode reactionForce(Vec xLocal, size_t set, Eigen::Vector3d *force) const = 0;
 
   // Positions of every local vertex at a local state (boundary filled), 3 per vertex in local vertex order (v - vStart;
-  // z = 0 for planar unknowns); and the inverse for the owned free vertices of a global vector.
+  // z = 0 for planar unknowns).
   virtual PetscErrorCode vertexPositions(Vec xLocal, std::vector<double> *xyz) const = 0;
-  virtual PetscErrorCode setFreePositions(const std::vector<double> &xyz, Vec xGlobal) const = 0;
   // Local indices (v - vStart) of the owned Dirichlet vertices.
   virtual void ownedSupportedVertices(std::vector<PetscInt> *local) const = 0;
-  // Rotational form of a displacement field d at a state x (local vectors, zeros at Dirichlet dofs): each vertex's
-  // share of d that is a rotation by its local spin w (the skew part of grad_x d, averaged over its non-inverted
-  // cells) is replaced by the exact rotation by |w| instead of the tangent step. out = d where w = 0. Collective.
-  virtual PetscErrorCode rotationalStep(Vec xLocal, Vec dLocal, Vec outLocal) const = 0;
+  // The rotational form of a displacement field d at a state x (local vectors, zeros at Dirichlet dofs), in two
+  // parts so that several multiples of d share one spin: vertexSpin gives each local vertex's spin w of d (the skew
+  // part of grad_x d, averaged over its non-inverted cells; 3 per vertex, collective, zero for planar unknowns);
+  // turnBySpin writes out = the share of scale * d that is a rotation by scale * w replaced by the exact rotation by
+  // that angle instead of the tangent step (out = scale * d where w = 0).
+  virtual PetscErrorCode vertexSpin(Vec xLocal, Vec dLocal, std::vector<double> *spin) const = 0;
+  virtual PetscErrorCode turnBySpin(const std::vector<double> &spin, Vec dLocal, double scale, Vec outLocal) const = 0;
   // Maximum distance of any vertex to its rest position (collective).
   virtual PetscErrorCode maxDisplacement(Vec xLocal, PetscReal *value) const = 0;
 

@@ -57,9 +57,9 @@ class DiscretizationT final : public Discretization {
   void forEachOwnedFreeVertex(
       const std::function<void(PetscInt, PetscInt, PetscInt, const Eigen::Vector3d &)> &fn) const override;
   PetscErrorCode maxDisplacement(Vec xLocal, PetscReal *value) const override;
-  PetscErrorCode rotationalStep(Vec xLocal, Vec dLocal, Vec outLocal) const override;
+  PetscErrorCode vertexSpin(Vec xLocal, Vec dLocal, std::vector<double> *spin) const override;
+  PetscErrorCode turnBySpin(const std::vector<double> &spin, Vec dLocal, double scale, Vec outLocal) const override;
   PetscErrorCode vertexPositions(Vec xLocal, std::vector<double> *xyz) const override;
-  PetscErrorCode setFreePositions(const std::vector<double> &xyz, Vec xGlobal) const override;
   void ownedSupportedVertices(std::vector<PetscInt> *local) const override;
   PetscErrorCode reactionForce(Vec xLocal, size_t set, Eigen::Vector3d *force) const override;
   PetscErrorCode cellStressMeasures(Vec xLocal, std::vector<kernels::StressMeasures> *out) const override;
@@ -81,7 +81,7 @@ class DiscretizationT final : public Discretization {
   PetscErrorCode setupCellData(Mesh &mesh, const std::vector<UniformCellData> &regionCells, bool regions);
   PetscErrorCode setupActiveMaterials(Mesh &mesh);                                               // cell_data.cpp
   PetscErrorCode setupMass(const Mesh &mesh);                                                    // rest_geometry
-  PetscErrorCode setupTerms(Mesh &mesh, double dt, bool detached);                                            // discretization
+  PetscErrorCode setupTerms(Mesh &mesh, double dt, bool detached);                               // discretization
   bool usesEnergy(energies::EnergyKind kind) const;  // by any region
   void updateTargets();
 

@@ -12,18 +12,19 @@
 // The Newton updates, linear solves and history of both phases are the step's.
 #include "solver/simulation.hpp"
 
-#include <Eigen/SVD>
+#include "kernels/svd_polar.hpp"
 
 namespace aries::solver {
 
 namespace {
 
-// The proper rigid motion y = R p + t that best maps the points p_i onto t_i (least squares; Kabsch), from the
-// owned supported vertices of every rank. One point: a translation.
+// The proper rigid motion y = R p + t that best maps the points p_i onto q_i (least squares; Kabsch: R is the
+// closest rotation to the cross-covariance sum (q_i - q)(p_i - p)^T), from the owned supported vertices of every
+// rank. One point: a translation.
 PetscErrorCode fitRigidMotion(MPI_Comm comm, const std::vector<PetscInt> &vertices, const std::vector<double> &from,
                               const std::vector<double> &to, Eigen::Matrix3d *R, Eigen::Vector3d *t) {
   PetscFunctionBeginUser;
-  double sums[16] = {0.0};  // count, sum p, sum q, sum p q^T
+  double sums[16] = {0.0};  // count, sum p, sum q, sum q p^T
   for (PetscInt v : vertices) {
     const Eigen::Vector3d p(from[3 * v], from[3 * v + 1], from[3 * v + 2]);
     const Eigen::Vector3d q(to[3 * v], to[3 * v + 1], to[3 * v + 2]);
@@ -31,7 +32,7 @@ PetscErrorCode fitRigidMotion(MPI_Comm comm, const std::vector<PetscInt> &vertic
     for (int i = 0; i < 3; ++i) {
       sums[1 + i] += p[i];
       sums[4 + i] += q[i];
-      for (int j = 0; j < 3; ++j) sums[7 + 3 * i + j] += p[i] * q[j];
+      for (int j = 0; j < 3; ++j) sums[7 + 3 * i + j] += q[i] * p[j];
     }
   }
   double total[16];
@@ -39,14 +40,25 @@ PetscErrorCode fitRigidMotion(MPI_Comm comm, const std::vector<PetscInt> &vertic
   const double n = total[0];
   const Eigen::Vector3d pMean = Eigen::Vector3d(total[1], total[2], total[3]) / n;
   const Eigen::Vector3d qMean = Eigen::Vector3d(total[4], total[5], total[6]) / n;
-  Eigen::Matrix3d H;
+  Eigen::Matrix3d cross;
   for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) H(i, j) = total[7 + 3 * i + j] - n * pMean[i] * qMean[j];
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
-  D(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0.0 ? -1.0 : 1.0;
-  *R = svd.matrixV() * D * svd.matrixU().transpose();
+    for (int j = 0; j < 3; ++j) cross(i, j) = total[7 + 3 * i + j] - n * qMean[i] * pMean[j];
+  *R = kernels::svdRotation<3, 3>(cross);
   *t = qMean - *R * pMean;
+  PetscFunctionReturn(0);
+}
+
+// Positions given per local vertex (3 each) into the owned free dofs of a global vector.
+PetscErrorCode setFreePositions(const fem::Discretization &disc, const std::vector<double> &xyz, Vec xGlobal) {
+  PetscScalar *x;
+  PetscInt lo;
+  PetscFunctionBeginUser;
+  PetscCall(VecGetOwnershipRange(xGlobal, &lo, nullptr));
+  PetscCall(VecGetArray(xGlobal, &x));
+  disc.forEachOwnedFreeVertex([&](PetscInt local, PetscInt, PetscInt off, const Eigen::Vector3d &) {
+    for (int i = 0; i < 3; ++i) x[off - lo + i] = xyz[3 * local + i];
+  });
+  PetscCall(VecRestoreArray(xGlobal, &x));
   PetscFunctionReturn(0);
 }
 
@@ -75,7 +87,7 @@ PetscErrorCode Simulation::detachedStart(NewtonResult *acc) {
   PetscCall(disc_->vertexPositions(local, &start));  // supported vertices at their current prescribed positions
   PetscCall(DMRestoreLocalVector(disc_->dm(), &local));
   PetscCall(DMCreateGlobalVector(detached->dm(), &y));
-  PetscCall(detached->setFreePositions(start, y));
+  PetscCall(setFreePositions(*detached, start, y));
 
   NewtonResult result;
   {
@@ -100,10 +112,9 @@ PetscErrorCode Simulation::detachedStart(NewtonResult *acc) {
       const Eigen::Vector3d p = R * Eigen::Vector3d(relaxed[3 * v], relaxed[3 * v + 1], relaxed[3 * v + 2]) + t;
       for (int i = 0; i < 3; ++i) relaxed[3 * v + i] = p[i];
     }
-    PetscCall(disc_->setFreePositions(relaxed, x_));
+    PetscCall(setFreePositions(*disc_, relaxed, x_));
   }  // else the supported solve starts from the synthetic state as it would without this phase
   PetscCall(VecDestroy(&y));
-  detached.reset();
   PetscFunctionReturn(0);
 }
 

@@ -83,19 +83,24 @@ PetscErrorCode NewtonSolver::attachNearNullSpace() {
   if (mode == "none") PetscFunctionReturn(0);
   if (mode != "rigid")
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -near_nullspace: '%s' is not rigid|none", mode.c_str());
-  const PetscInt bs = disc_->dofsPerVertex();
-  PetscInt n;
-  PetscCall(VecGetLocalSize(work_, &n));
-  Vec coords;
-  PetscCall(VecCreateMPI(PetscObjectComm((PetscObject)work_), n, PETSC_DETERMINE, &coords));
-  PetscCall(VecSetBlockSize(coords, bs));
-  PetscCall(VecSetUp(coords));
-  PetscCall(disc_->restPositions(work_));
-  PetscCall(VecCopy(work_, coords));
   MatNullSpace nsp;
-  PetscCall(MatNullSpaceCreateRigidBody(coords, &nsp));
+  PetscCall(disc_->restPositions(work_));
+  PetscCall(rigidBodyModes(work_, disc_->dofsPerVertex(), &nsp));
   PetscCall(MatSetNearNullSpace(J_, nsp));
   PetscCall(MatNullSpaceDestroy(&nsp));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode rigidBodyModes(Vec positions, PetscInt dofsPerVertex, MatNullSpace *modes) {
+  Vec coords;  // a copy carrying the block size the rigid-body null space reads the dimension from
+  PetscInt n;
+  PetscFunctionBeginUser;
+  PetscCall(VecGetLocalSize(positions, &n));
+  PetscCall(VecCreateMPI(PetscObjectComm((PetscObject)positions), n, PETSC_DETERMINE, &coords));
+  PetscCall(VecSetBlockSize(coords, dofsPerVertex));
+  PetscCall(VecSetUp(coords));
+  PetscCall(VecCopy(positions, coords));
+  PetscCall(MatNullSpaceCreateRigidBody(coords, modes));
   PetscCall(VecDestroy(&coords));
   PetscFunctionReturn(0);
 }

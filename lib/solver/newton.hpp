@@ -41,6 +41,9 @@
 
 namespace aries::solver {
 
+// The six rigid-body modes (orthonormalized) of the positions in a global vector with `dofsPerVertex` per vertex.
+PetscErrorCode rigidBodyModes(Vec positions, PetscInt dofsPerVertex, MatNullSpace *modes);
+
 // How a Newton solve ended, beyond PETSc's SNESConvergedReason.
 enum class Convergence {
   None,            // not converged (see the SNES reason)
@@ -118,7 +121,6 @@ class NewtonSolver {
   PetscErrorCode certify(Vec X, Vec Y, Vec F, PetscInt iter, bool *converged);
   PetscErrorCode accelerate(Vec X, Vec Y, Vec F, PetscBool *changed);
   PetscErrorCode rotate(Vec X, Vec Y, Vec F, PetscBool *changed);  // the rotational update (-newton_rotation)
-  PetscErrorCode rotationalCandidate(Vec X, Vec Y, double scale, Vec cand, PetscReal *energy);
   PetscErrorCode removeRigidMotion(Vec X, Vec Y);
   PetscErrorCode safeguard(Vec X, Vec Y, PetscBool *changed);
   PetscErrorCode finishUpdate(Vec xNew);  // after an update: line-search length, adaptive filter, subspace limit

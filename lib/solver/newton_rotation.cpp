@@ -8,46 +8,45 @@
 
 namespace aries::solver {
 
-// The rotational update (-newton_rotation): the candidate step for the direction scale * Y (x_new = X - cand), each
-// vertex turned by its spin (fem::Discretization::rotationalStep), and the energy there.
-PetscErrorCode NewtonSolver::rotationalCandidate(Vec X, Vec Y, double scale, Vec cand, PetscReal *energy) {
-  const DM dm = disc_->dm();
-  LocalVec xl(dm), dl(dm);
-  Vec out;
-  PetscFunctionBeginUser;
-  PetscCall(xl.fromGlobal(X, disc_));
-  PetscCall(VecScale(Y, -scale));  // the displacement is -Y
-  PetscCall(dl.fromGlobal(Y, nullptr));
-  PetscCall(VecScale(Y, -1.0 / scale));
-  PetscCall(DMGetLocalVector(dm, &out));
-  PetscCall(PetscLogStagePush(assemblyStage_));
-  PetscCall(disc_->rotationalStep(xl.get(), dl.get(), out));
-  PetscCall(PetscLogStagePop());
-  PetscCall(DMLocalToGlobal(dm, out, INSERT_VALUES, cand));
-  PetscCall(DMRestoreLocalVector(dm, &out));
-  PetscCall(VecScale(cand, -1.0));
-  PetscCall(VecWAXPY(work_, -1.0, cand, X));
-  PetscCall(energyAt(work_, energy, nullptr));
-  PetscFunctionReturn(0);
-}
-
-// Replaces the direction Y by its rotational form when that lowers the energy at full length more than Y does, then
-// doubles the angle up to rotation_ times while the energy keeps falling. The line search then runs on the result.
+// Replaces the direction Y by its rotational form (fem::Discretization::vertexSpin / turnBySpin; x_new = X - Y) when
+// that lowers the energy at full length more than Y does, then doubles the angle up to rotation_ times while the
+// energy keeps falling. The line search then runs on the result.
 PetscErrorCode NewtonSolver::rotate(Vec X, Vec Y, Vec F, PetscBool *changed) {
   PetscFunctionBeginUser;
   if (rotation_ < 0) PetscFunctionReturn(0);
-  Vec cand, best;
+  const DM dm = disc_->dm();
+  LocalVec xl(dm), dl(dm);
+  std::vector<double> spin;
+  PetscCall(xl.fromGlobal(X, disc_));
+  PetscCall(VecScale(Y, -1.0));  // the displacement is -Y
+  PetscCall(dl.fromGlobal(Y, nullptr));
+  PetscCall(VecScale(Y, -1.0));
+  PetscCall(PetscLogStagePush(assemblyStage_));
+  PetscCall(disc_->vertexSpin(xl.get(), dl.get(), &spin));
+  PetscCall(PetscLogStagePop());
+  Vec out, cand, best;
+  PetscCall(DMGetLocalVector(dm, &out));
+  PetscCall(VecDuplicate(Y, &cand));
+  PetscCall(VecDuplicate(Y, &best));
+  // The direction Y' = -(turned scale * displacement) and the energy at X - Y'.
+  const auto candidate = [&](double scale, Vec dir, PetscReal *energy) -> PetscErrorCode {
+    PetscFunctionBeginUser;
+    PetscCall(disc_->turnBySpin(spin, dl.get(), scale, out));
+    PetscCall(DMLocalToGlobal(dm, out, INSERT_VALUES, dir));
+    PetscCall(VecScale(dir, -1.0));
+    PetscCall(VecWAXPY(work_, -1.0, dir, X));
+    PetscCall(energyAt(work_, energy, nullptr));
+    PetscFunctionReturn(0);
+  };
   PetscReal ePlain, eBest;
   PetscCall(VecWAXPY(work_, -1.0, Y, X));
   PetscCall(energyAt(work_, &ePlain, nullptr));
-  PetscCall(VecDuplicate(Y, &cand));
-  PetscCall(VecDuplicate(Y, &best));
-  PetscCall(rotationalCandidate(X, Y, 1.0, best, &eBest));
+  PetscCall(candidate(1.0, best, &eBest));
   double scale = 1.0;
   if (eBest < ePlain && eBest < energyBefore_) {
     for (PetscInt k = 1; k <= rotation_; ++k) {
       PetscReal e;
-      PetscCall(rotationalCandidate(X, Y, 2.0 * scale, cand, &e));
+      PetscCall(candidate(2.0 * scale, cand, &e));
       if (!(e < eBest)) break;
       eBest = e;
       scale *= 2.0;
@@ -62,6 +61,7 @@ PetscErrorCode NewtonSolver::rotate(Vec X, Vec Y, Vec F, PetscBool *changed) {
       *changed = PETSC_TRUE;
     }
   }
+  PetscCall(DMRestoreLocalVector(dm, &out));
   PetscCall(VecDestroy(&cand));
   PetscCall(VecDestroy(&best));
   PetscFunctionReturn(0);
@@ -71,16 +71,11 @@ PetscErrorCode NewtonSolver::rotate(Vec X, Vec Y, Vec F, PetscBool *changed) {
 // current positions, orthonormalized (PETSc's rigid-body null space). The gradient is orthogonal to them (the
 // energy is invariant under rigid motions), so the slope is unchanged.
 PetscErrorCode NewtonSolver::removeRigidMotion(Vec X, Vec Y) {
-  Vec coords;
   MatNullSpace nsp;
   PetscFunctionBeginUser;
-  PetscCall(VecDuplicate(X, &coords));
-  PetscCall(VecSetBlockSize(coords, disc_->dofsPerVertex()));
-  PetscCall(VecCopy(X, coords));
-  PetscCall(MatNullSpaceCreateRigidBody(coords, &nsp));
+  PetscCall(rigidBodyModes(X, disc_->dofsPerVertex(), &nsp));
   PetscCall(MatNullSpaceRemove(nsp, Y));
   PetscCall(MatNullSpaceDestroy(&nsp));
-  PetscCall(VecDestroy(&coords));
   PetscFunctionReturn(0);
 }
 
