@@ -424,6 +424,7 @@ PetscErrorCode NewtonSolver::preCheck(SNESLineSearch, Vec X, Vec Y, PetscBool *c
   PetscCall(VecNorm(F, NORM_2, &rec.residual));
   self->havePending_ = true;
   self->halved_ = false;
+  self->postScale_ = 1.0;
   self->haveCurvature_ = false;
 
   if (self->floating_) PetscCall(self->removeRigidMotion(X, Y));
@@ -455,27 +456,31 @@ PetscErrorCode NewtonSolver::preCheck(SNESLineSearch, Vec X, Vec Y, PetscBool *c
   PetscFunctionReturn(0);
 }
 
-// Line searches that extrapolate (l2, cp) can leave the checked segment: re-check the accepted point.
-PetscErrorCode NewtonSolver::postCheck(SNESLineSearch ls, Vec X, Vec Y, Vec W, PetscBool *changedY,
+// After every line search (of any type): the alpha safeguard on the accepted point (line searches that extrapolate,
+// l2 and cp, can leave the checked segment). PETSc's bt line search hands over Y already scaled by its length (and
+// resets its length afterwards), the others do not: the segment is taken as D = X - W, halved from W towards X, and
+// finishUpdate records the length kept.
+PetscErrorCode NewtonSolver::postCheck(SNESLineSearch, Vec X, Vec, Vec W, PetscBool *changedY,
                                        PetscBool *changedW, void *ctx) {
   auto *self = static_cast<NewtonSolver *>(ctx);
   PetscFunctionBeginUser;
   *changedY = PETSC_FALSE;
   *changedW = PETSC_FALSE;
   if (self->cur_.convergence != Convergence::None) PetscFunctionReturn(0);
-  PetscReal lambda;
-  PetscCall(SNESLineSearchGetLambda(ls, &lambda));
+  Vec D = self->segment_;
+  PetscCall(VecWAXPY(D, -1.0, W, X));
+  double t = 1.0;  // W = X - t D
   for (int k = 0; k < 60; ++k) {
     bool ok = false;
     PetscCall(self->alphaAcceptable(W, self->alphaRef_, &ok));
     if (ok) break;
-    lambda *= 0.5;
-    PetscCall(VecWAXPY(W, -lambda, Y, X));
+    t *= 0.5;
+    PetscCall(VecWAXPY(W, -t, D, X));
     *changedW = PETSC_TRUE;
     self->halved_ = true;
     ++self->cur_.safeguardHalvings;
   }
-  if (*changedW) PetscCall(SNESLineSearchSetLambda(ls, lambda));
+  self->postScale_ = t;
   PetscFunctionReturn(0);
 }
 
@@ -491,6 +496,7 @@ PetscErrorCode NewtonSolver::finishUpdate(Vec xNew) {
   havePending_ = false;
   PetscCall(SNESGetLineSearch(snes_, &ls));
   PetscCall(SNESLineSearchGetLambda(ls, &lambda));
+  lambda *= postScale_;  // postCheck's share of the line search's length
   pending_.lambda = lambda;
   cur_.history.push_back(pending_);
   lastFull_ = lambda >= 1.0 && !halved_;
