@@ -65,7 +65,7 @@ std::string reasonName(const NewtonResult &r) {
 NewtonSolver::~NewtonSolver() {
   if (snes_) SNESDestroy(&snes_);
   if (J_) MatDestroy(&J_);
-  for (Vec *v : {&work_, &invMass_, &prevX_, &newtonDir_, &segment_})
+  for (Vec *v : {&work_, &invMass_, &prevX_, &newtonDir_})
     if (*v) VecDestroy(v);
   for (Vec &v : history_) VecDestroy(&v);
   if (defaultKspCtx_) KSPConvergedDefaultDestroy(defaultKspCtx_);
@@ -238,7 +238,6 @@ PetscErrorCode NewtonSolver::setup(fem::Discretization &disc, bool dynamic, doub
   PetscCall(DMCreateGlobalVector(dm, &work_));
   PetscCall(VecDuplicate(work_, &prevX_));
   PetscCall(VecDuplicate(work_, &newtonDir_));
-  PetscCall(VecDuplicate(work_, &segment_));
   history_.resize(subspace_);
   for (Vec &v : history_) PetscCall(VecDuplicate(work_, &v));
   PetscCall(attachNearNullSpace());

@@ -140,7 +140,7 @@ class NewtonSolver {
   SNES snes_ = nullptr;
   Mat J_ = nullptr;
   double postScale_ = 1.0;  // the share of the line search's length postCheck kept (the alpha safeguard)
-  Vec work_ = nullptr, invMass_ = nullptr, prevX_ = nullptr, newtonDir_ = nullptr, segment_ = nullptr;
+  Vec work_ = nullptr, invMass_ = nullptr, prevX_ = nullptr, newtonDir_ = nullptr;
   std::vector<Vec> history_;  // previous updates of this solve, newest first
   bool dynamic_ = false;
   double dt_ = 0.0, minMass_ = 0.0;

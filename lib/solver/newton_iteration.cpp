@@ -458,8 +458,8 @@ PetscErrorCode NewtonSolver::preCheck(SNESLineSearch, Vec X, Vec Y, PetscBool *c
 
 // After every line search (of any type): the alpha safeguard on the accepted point (line searches that extrapolate,
 // l2 and cp, can leave the checked segment). PETSc's bt line search hands over Y already scaled by its length (and
-// resets its length afterwards), the others do not: the segment is taken as D = X - W, halved from W towards X, and
-// finishUpdate records the length kept.
+// resets its length afterwards), the others do not: the point is halved towards X in place, W <- (W + X) / 2, which
+// is right for both, and finishUpdate records the length kept.
 PetscErrorCode NewtonSolver::postCheck(SNESLineSearch, Vec X, Vec, Vec W, PetscBool *changedY,
                                        PetscBool *changedW, void *ctx) {
   auto *self = static_cast<NewtonSolver *>(ctx);
@@ -467,20 +467,16 @@ PetscErrorCode NewtonSolver::postCheck(SNESLineSearch, Vec X, Vec, Vec W, PetscB
   *changedY = PETSC_FALSE;
   *changedW = PETSC_FALSE;
   if (self->cur_.convergence != Convergence::None) PetscFunctionReturn(0);
-  Vec D = self->segment_;
-  PetscCall(VecWAXPY(D, -1.0, W, X));
-  double t = 1.0;  // W = X - t D
   for (int k = 0; k < 60; ++k) {
     bool ok = false;
     PetscCall(self->alphaAcceptable(W, self->alphaRef_, &ok));
     if (ok) break;
-    t *= 0.5;
-    PetscCall(VecWAXPY(W, -t, D, X));
+    PetscCall(VecAXPBY(W, 0.5, 0.5, X));
+    self->postScale_ *= 0.5;
     *changedW = PETSC_TRUE;
     self->halved_ = true;
     ++self->cur_.safeguardHalvings;
   }
-  self->postScale_ = t;
   PetscFunctionReturn(0);
 }
 
