@@ -633,6 +633,7 @@ PLAIN_DYNAMIC = ["-psd_projection", "clamp", "-newton_subspace", "0", "-newton_i
 PLAIN_STATIC = ["-psd_projection", "clamp", "-newton_subspace", "0", "-newton_rotation", "-1", "-static_detached_start",
                 "false"]
 SUPPORTED_START = ["-static_detached_start", "false"]
+NO_SHAPE_STAGE = ["-static_detached_shape_first", "false"]
 NEWTON_VARIANTS = [  # label, backward Euler options, static options
     ("plain projected Newton (clamp)", PLAIN_DYNAMIC, PLAIN_STATIC),
     ("abs filter", ["-psd_projection", "abs", "-newton_subspace", "0"], ["-psd_projection", "abs",
@@ -694,14 +695,16 @@ def section_newton(cfg):
             "nu = 0.3): step-1 Newton updates / linear solves, CG solves stopped by `-ksp_max_it` (all steps), final "
             "max distance to rest / L, and whether all 30 steps converged. **plain** as above (also without the "
             "rotational update and the detached start); **supported start** = the default with "
-            "`-static_detached_start false` (the body solved with its supports from the scrambled start); **default** "
-            "= the detached start (step 1 relaxes the body without its supports, moves it rigidly onto them, then "
-            "solves with them; both phases counted) and `-newton_rotation 3`. triceratops, hand and camel are CGAL "
-            "surfaces beyond the paper's scenes (meshes/README.md).\n",
+            "`-static_detached_start false` (the body solved with its supports from the scrambled start); **no shape "
+            "stage** = the default with `-static_detached_shape_first false` (the detached relaxation with the full "
+            "energy from the start); **default** = the detached start (step 1 relaxes the body without its supports, "
+            "first without the volume terms, then with them, moves it rigidly onto its supports, then solves with "
+            "them; all solves counted) and `-newton_rotation 3`. triceratops, hand and camel are CGAL surfaces beyond "
+            "the paper's scenes (meshes/README.md).\n",
             "| mesh | seed | plain: step 1 Newton | plain: error / L | plain: all converged | supported start: step 1 "
-            "Newton | supported start: error / L | default: step 1 Newton / solves | default: CG at limit | default: "
-            "error / L | default: all converged |",
-            "|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---|"]
+            "Newton | supported start: error / L | no shape stage: step 1 Newton | no shape stage: error / L | "
+            "default: step 1 Newton / solves | default: CG at limit | default: error / L | default: all converged |",
+            "|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---|"]
     static_hist = {}
     for mname in cfg["newton_static"]:
         m = mesh(mname, cfg["newton_static_size"])
@@ -712,7 +715,8 @@ def section_newton(cfg):
                                       lo[2] + 0.1 * (hi[2] - lo[2]))
         for seed in cfg["newton_seeds"]:
             cells = []
-            for vlabel, variant in (("plain", PLAIN_STATIC), ("supported", SUPPORTED_START), ("default", [])):
+            for vlabel, variant in (("plain", PLAIN_STATIC), ("supported", SUPPORTED_START),
+                                    ("noshape", NO_SHAPE_STAGE), ("default", [])):
                 tag = "newton_static_%s_%d_%s" % (mname, seed, vlabel)
                 hist = os.path.join(WORK, tag, "newton.csv")
                 r = Run(tag, ["-dm_plex_filename", m, "-energy", "iarap", "-E", "1e4", "-nu", "0.3", "-integrator",
@@ -724,10 +728,11 @@ def section_newton(cfg):
                 cells.append((r, err, conv))
                 if mname == "armadillo" and seed == cfg["newton_seeds"][0]:
                     static_hist[vlabel] = newton_history(r)
-            (rp, ep, cp), (rs, es, _), (rd, ed, cd) = cells
-            out.append("| %s | %d | %s | %s | %s | %s | %s | %s / %s | %d | %s | %s |" % (
+            (rp, ep, cp), (rs, es, _), (rn, en, _), (rd, ed, cd) = cells
+            out.append("| %s | %d | %s | %s | %s | %s | %s | %s | %s | %s / %s | %d | %s | %s |" % (
                 mname, seed, rp.rows[0]["newton_its"] if rp.rows else "-", fmt_err(ep), "yes" if cp else "**no**",
                 rs.rows[0]["newton_its"] if rs.rows else "-", fmt_err(es),
+                rn.rows[0]["newton_its"] if rn.rows else "-", fmt_err(en),
                 rd.rows[0]["newton_its"] if rd.rows else "-", rd.rows[0]["linear_solves"] if rd.rows else "-",
                 rd.sum("ksp_at_limit") if rd.rows else 0, fmt_err(ed), "yes" if cd else "**no**"))
     out.append("")

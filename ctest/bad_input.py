@@ -141,6 +141,9 @@ def case_defs():
                                   r"option -newton_rotation must be in -1\.\.6 \(got 7\)")
     d["static_detached_start_value"] = (lambda: ["-dm_plex_filename", good_mesh(), "-static_detached_start", "maybe"],
                                         r"-static_detached_start")
+    d["static_detached_shape_first_value"] = (lambda: ["-dm_plex_filename", good_mesh(), "-initial", "scramble",
+                                                       "-static_detached_shape_first", "maybe"],
+                                              r"-static_detached_shape_first")
     d["newton_forcing_range"] = (lambda: ["-dm_plex_filename", good_mesh(), "-newton_forcing", "1.5"],
                                  r"option -newton_forcing must be in \[0, 1\) \(got 1\.5\)")
     d["missing_options_file"] = (lambda: ["-options_file", os.path.join(w, "nope.yml")],

@@ -4,6 +4,8 @@
 // displacement field per vertex, -newton_rotation).
 #include "fem/discretization_impl.hpp"
 
+#include <Eigen/Eigenvalues>
+
 #include <cmath>
 
 namespace aries::fem {
@@ -324,6 +326,32 @@ PetscErrorCode DiscretizationT<R, C>::cellFibers(std::vector<double> *fibers) co
   PetscFunctionBeginUser;
   fibers->clear();
   for (const auto &f : restFibers_) fibers->insert(fibers->end(), f.begin(), f.end());
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::stretchTermsFixShape(bool *fixes) const {
+  PetscFunctionBeginUser;
+  int ok = R == 3 && C == 3;
+  if constexpr (R == 3 && C == 3) {
+    std::vector<char> checked(materials_.size(), 0);
+    for (size_t c = 0; c < cells_.size() && ok; ++c) {
+      const int region = cells_.cells()[c].region;
+      if (checked[region]) continue;
+      checked[region] = 1;
+      energies::Material m = materials_[region];
+      m.lambda = 0.0;
+      const energies::CellData<3> &data = cells_.dataOf(c);
+      const kernels::Mat<3, 3> rest = m.kind == energies::EnergyKind::ShapeTarget ? data.target : kernels::Mat<3, 3>::Identity();
+      const Eigen::SelfAdjointEigenSolver<kernels::Mat<9, 9>> eig(energies::evaluateEnergy<3, 3>(m, data, rest).hess);
+      const kernels::Vec<9> &ev = eig.eigenvalues();  // ascending
+      const double tol = 1e-8 * ev.cwiseAbs().maxCoeff();
+      ok = ev(0) >= -tol && ev(3) > tol;
+    }
+  }
+  int all = 0;
+  PetscCallMPI(MPI_Allreduce(&ok, &all, 1, MPI_INT, MPI_MIN, comm()));
+  *fixes = all != 0;
   PetscFunctionReturn(0);
 }
 

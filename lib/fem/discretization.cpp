@@ -193,6 +193,26 @@ template class DiscretizationT<3, 3>;
 template class DiscretizationT<2, 2>;
 template class DiscretizationT<3, 2>;
 
+bool Discretization::suspendVolumeTerms(bool suspend) {
+  bool changed = false;
+  if (suspend && lambdaRead_.empty()) {
+    for (energies::Material &m : materials_) {
+      lambdaRead_.push_back(m.lambda);
+      if (energies::energyUsesVolumeTerm(m.kind) && m.lambda != 0.0) {
+        m.lambda = 0.0;
+        changed = true;
+      }
+    }
+  } else if (!suspend && !lambdaRead_.empty()) {
+    for (size_t r = 0; r < materials_.size(); ++r) {
+      changed = changed || materials_[r].lambda != lambdaRead_[r];
+      materials_[r].lambda = lambdaRead_[r];
+    }
+    lambdaRead_.clear();
+  }
+  return changed;
+}
+
 PetscErrorCode Discretization::create(Mesh &mesh, double dt, std::unique_ptr<Discretization> *out, bool detached) {
   PetscFunctionBeginUser;
   switch (mesh.shape) {

@@ -54,6 +54,13 @@ class Discretization {
   PetscInt numBoundaryVerticesGlobal() const { return numBcGlobal_; }
   double restMeasureGlobal() const { return restMeasure_; }
   const energies::Material &material(int region = 0) const { return materials_[region]; }
+  // Turns the volume terms lambda/2 (J - J0)^2 of every material off (true) or back to their read values (false).
+  // Returns whether the energy changed (some material has a volume term with lambda != 0).
+  bool suspendVolumeTerms(bool suspend);
+  // Whether the materials' terms other than the volume terms fix the rest shape up to a rigid motion, to first order:
+  // their Hessian at the rest deformation gradient (I; the target for shape_target) has only the three rotations'
+  // zero eigenvalues and none below. False for planar and cloth elements. Collective.
+  virtual PetscErrorCode stretchTermsFixShape(bool *fixes) const = 0;
   double characteristicModulus() const;  // largest shear-like modulus (for scaling tolerances and reports)
   const DynamicsTerms &dynamics() const { return dyn_; }
 
@@ -157,6 +164,7 @@ class Discretization {
   PetscInt numBcGlobal_ = 0;
   double restMeasure_ = 0.0;
   std::vector<energies::Material> materials_;
+  std::vector<double> lambdaRead_;  // the materials' lambda as read, while suspendVolumeTerms(true) holds
   DynamicsTerms dyn_;
   energies::HessianFilter hessianFilter_;
   StepState step_;

@@ -57,6 +57,7 @@ class DiscretizationT final : public Discretization {
   void forEachOwnedFreeVertex(
       const std::function<void(PetscInt, PetscInt, PetscInt, const Eigen::Vector3d &)> &fn) const override;
   PetscErrorCode maxDisplacement(Vec xLocal, PetscReal *value) const override;
+  PetscErrorCode stretchTermsFixShape(bool *fixes) const override;
   PetscErrorCode vertexSpin(Vec xLocal, Vec dLocal, std::vector<double> *spin) const override;
   PetscErrorCode turnBySpin(const std::vector<double> &spin, Vec dLocal, double scale, Vec outLocal) const override;
   PetscErrorCode vertexPositions(Vec xLocal, std::vector<double> *xyz) const override;

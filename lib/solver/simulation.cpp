@@ -63,6 +63,9 @@ PetscErrorCode readSimulationOptions(SimulationOptions *o) {
     PetscBool detached = PETSC_TRUE;
     PetscCall(core::optionBool(nullptr, "-static_detached_start", &detached, &set));
     o->detachedStart = detached && o->initial != InitialState::Rest && o->initial != InitialState::Tutte;
+    PetscBool shapeFirst = PETSC_TRUE;
+    PetscCall(core::optionBool(nullptr, "-static_detached_shape_first", &shapeFirst, &set));
+    o->detachedShapeFirst = shapeFirst;
   }
   if (o->integrator == Integrator::BackwardEuler) {
     PetscBool ps = PETSC_TRUE;

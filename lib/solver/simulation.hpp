@@ -31,6 +31,7 @@ struct SimulationOptions {
   PetscInt maxLoadHalvings = 20;
   bool predictorStart = false;  // -predictor_start (backward Euler; on by default there)
   bool detachedStart = false;   // -static_detached_start (static runs from a synthetic start; on by default there)
+  bool detachedShapeFirst = true;  // -static_detached_shape_first: the detached relaxation starts without volume terms
 };
 
 PetscErrorCode readSimulationOptions(SimulationOptions *opts);
