@@ -363,18 +363,19 @@ def case_detached_start():
     if rows[1]["reason"] != "converged_initial":
         fail("step 2 at rest should converge with 0 updates, got %s" % rows[1]["reason"])
     blocks = solve_blocks(out_base(tag) + "_newton.csv")
-    print("step 1 solves (updates each): %s; shape stage's first update: energy %.4g -> %.4g" % (
-        [len(b) - 1 for b in blocks], float(blocks[0][0]["energy"]), float(blocks[0][1]["energy"])))
-    if len(blocks) != 3 or len(blocks[1]) != 1 or len(blocks[2]) != 1:
-        fail("expected three solves in step 1 (shape stage, full energy at rest with 0 updates, supported at rest), "
-             "got %s updates" % [len(b) - 1 for b in blocks])
-    if not float(blocks[0][1]["energy"]) <= 0.1 * float(blocks[0][0]["energy"]):
+    print("step 1 solves (updates each): %s" % [len(b) - 1 for b in blocks])
+    if len(blocks) != 3 or len(blocks[0]) < 2 or len(blocks[1]) != 1 or len(blocks[2]) != 1:
+        fail("expected three solves in step 1 (shape stage with >= 1 update, full energy at rest with 0 updates, "
+             "supported at rest), got %s updates" % [len(b) - 1 for b in blocks])
+    e0, e1 = float(blocks[0][0]["energy"]), float(blocks[0][1]["energy"])
+    print("shape stage's first update: energy %.4g -> %.4g" % (e0, e1))
+    if not e1 <= 0.1 * e0:
         fail("the shape stage's first update did not gather the body (energy fell less than 10x)")
     two_dirs = base[:]
     two_dirs[two_dirs.index("-steps") + 1] = "1"
     two_dirs[two_dirs.index("iarap")] = "aniso"
     run(two_dirs + ["-aniso_dirs", "1,0,0,0,1,0", "-aniso_mu", "4000,4000", "-stats", out_base(tag + "_aniso") + ".csv",
-                    "-newton_history", out_base(tag + "_aniso") + "_newton.csv"], tag=tag + "_aniso")
+                    "-newton_history", out_base(tag + "_aniso") + "_newton.csv"], expect_code=None, tag=tag + "_aniso")
     blocks = solve_blocks(out_base(tag + "_aniso") + "_newton.csv")
     print("aniso with two directions: step 1 solves (updates each) %s" % [len(b) - 1 for b in blocks])
     if len(blocks) != 2:
@@ -388,7 +389,7 @@ def solve_blocks(history_csv, step="1"):
     for h in csv_rows(history_csv):
         if h["step"] != step:
             continue
-        if h["iteration"] == "0":
+        if h["iteration"] == "0" or not blocks:
             blocks.append([])
         blocks[-1].append(h)
     return blocks

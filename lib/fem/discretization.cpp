@@ -203,6 +203,7 @@ bool Discretization::suspendVolumeTerms(bool suspend) {
         changed = true;
       }
     }
+    if (!changed) lambdaRead_.clear();
   } else if (!suspend && !lambdaRead_.empty()) {
     for (size_t r = 0; r < materials_.size(); ++r) {
       changed = changed || materials_[r].lambda != lambdaRead_[r];

@@ -57,9 +57,10 @@ class Discretization {
   // Turns the volume terms lambda/2 (J - J0)^2 of every material off (true) or back to their read values (false).
   // Returns whether the energy changed (some material has a volume term with lambda != 0).
   bool suspendVolumeTerms(bool suspend);
-  // Whether the materials' terms other than the volume terms fix the rest shape up to a rigid motion, to first order:
-  // their Hessian at the rest deformation gradient (I; the target for shape_target) has only the three rotations'
-  // zero eigenvalues and none below. False for planar and cloth elements. Collective.
+  // Whether the materials' terms other than the volume terms fix the rest shape up to a rigid motion, to second order:
+  // in every cell they are stationary at the rest deformation gradient (I; the target for shape_target) and their
+  // Hessian there has only the three rotations' zero eigenvalues and none below. False for planar and cloth elements.
+  // Collective.
   virtual PetscErrorCode stretchTermsFixShape(bool *fixes) const = 0;
   double characteristicModulus() const;  // largest shear-like modulus (for scaling tolerances and reports)
   const DynamicsTerms &dynamics() const { return dyn_; }

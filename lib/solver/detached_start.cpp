@@ -16,11 +16,12 @@
 // power: Newton on such a term shrinks the stretch by a fixed factor per update (a power s^6 loses 1/5 of s per
 // Newton step), and the gathering takes more updates the finer the mesh (camel, scramble seed 2: 8 updates on the
 // 1.8k-tet test mesh, 17 on the 16.6k-tet default one). The stretch terms mu |F - R|^2 grow like the square of the
-// stretch: they gather the body in one update. Their minimum is already the rest shape up to a rigid motion (F = R
-// in every cell), so the second stage starts at rest and only certifies it (0 updates). The shape stage runs only
-// where the stretch terms alone fix the shape (Discretization::stretchTermsFixShape: not for aniso with fewer than
-// three directions, whose remaining strain only the volume term holds); one that fails leaves the second stage the
-// synthetic start.
+// stretch: they gather the body in one update. For the ARAP family their minimum is already the rest shape up to a
+// rigid motion (F = R in every cell), so the second stage starts at rest and only certifies it (0 updates); where
+// the cells' rest shapes do not fit together (shape targets) it finishes the relaxation. The shape stage runs only
+// where the stretch terms alone fix each cell's shape (Discretization::stretchTermsFixShape: not for aniso with
+// fewer than three directions, whose remaining strain only the volume term holds, nor for caricature, whose I4 term
+// moves the minimum); one that fails leaves the second stage the synthetic start.
 // The Newton updates, linear solves and history of all solves are the step's.
 #include "solver/simulation.hpp"
 

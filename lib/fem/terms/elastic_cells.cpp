@@ -101,9 +101,11 @@ PetscInt ElasticCells<R, C>::offRankHessianValues() const {
 
 template <int R, int C>
 PetscInt ElasticCells<R, C>::updateBarrierFallback(const std::vector<double> &alpha, double threshold) {
-  mollified_ = materials_;  // (rebuilt each time: the materials can change, Discretization::suspendVolumeTerms)
-  for (auto &m : mollified_)
-    if (m.singularity.mode == energies::SingularityMode::Barrier) m.singularity.mode = energies::SingularityMode::Mollifier;
+  if (mollified_.empty()) {
+    mollified_ = materials_;
+    for (auto &m : mollified_)
+      if (m.singularity.mode == energies::SingularityMode::Barrier) m.singularity.mode = energies::SingularityMode::Mollifier;
+  }
   PetscInt count = 0;
   fallback_.assign(cells_.size(), 0);
   for (size_t c = 0; c < cells_.size(); ++c)
