@@ -329,15 +329,20 @@ PetscErrorCode DiscretizationT<R, C>::cellFibers(std::vector<double> *fibers) co
   PetscFunctionReturn(0);
 }
 
-// Every cell is checked (its data can differ: fibers, targets, caricature curvature): at its rest deformation
-// gradient the stretch terms must be stationary (a caricature's I4 term is not: its minimum is a stretch along n) with
-// a Hessian whose only zero eigenvalues are the three rotations' and none negative.
+// Every cell whose data can differ is checked (fibers, targets, caricature curvature; with data shared by all cells,
+// one cell per region): at its rest deformation gradient the stretch terms must be stationary (a caricature's I4 term
+// is not: its minimum is a stretch along n) with a Hessian whose only zero eigenvalues are the three rotations' and
+// none negative.
 template <int R, int C>
 PetscErrorCode DiscretizationT<R, C>::stretchTermsFixShape(bool *fixes) const {
   PetscFunctionBeginUser;
   int ok = R == 3 && C == 3;
   if constexpr (R == 3 && C == 3) {
+    std::vector<char> regionChecked(materials_.size(), 0);
     for (size_t c = 0; c < cells_.size() && ok; ++c) {
+      const int region = cells_.cells()[c].region;
+      if (cells_.dataShared() && regionChecked[region]) continue;
+      regionChecked[region] = 1;
       energies::Material m = cells_.materialOf(c);
       m.lambda = 0.0;
       const energies::CellData<3> &data = cells_.dataOf(c);
