@@ -1,10 +1,22 @@
 # Robustness: bad input (one error line, exit 1, no output files; 1 and 2 ranks), kill and restart,
 # failure policies, determinism. The bad-input cases are listed by ctest/bad_input.py itself.
+# The configuration fails if the listing fails or lists nothing: the cases must not vanish from the suite silently.
 execute_process(COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/ctest/bad_input.py --list
-                OUTPUT_VARIABLE ARIES_BAD_INPUT_CASES OUTPUT_STRIP_TRAILING_WHITESPACE)
+                OUTPUT_VARIABLE ARIES_BAD_INPUT_CASES ERROR_VARIABLE ARIES_BAD_INPUT_ERR
+                RESULT_VARIABLE ARIES_BAD_INPUT_RC OUTPUT_STRIP_TRAILING_WHITESPACE)
+if(NOT ARIES_BAD_INPUT_RC EQUAL 0 OR ARIES_BAD_INPUT_CASES STREQUAL "")
+  message(FATAL_ERROR "ctest/bad_input.py --list failed (exit status '${ARIES_BAD_INPUT_RC}') or listed no bad-input "
+                      "case.\nstdout:\n${ARIES_BAD_INPUT_CASES}\nstderr:\n${ARIES_BAD_INPUT_ERR}")
+endif()
 # Every case on one rank; a representative subset on two (the collective error path is shared by all cases).
 set(ARIES_BAD_INPUT_NP2 missing_mesh truncated_mesh degenerate_cell fiber_count unknown_bc_set strict_unknown_option
     missing_options_file curved_surface_read_flat cloth_energy_planar_mesh)
+foreach(case ${ARIES_BAD_INPUT_NP2})
+  if(NOT case IN_LIST ARIES_BAD_INPUT_CASES)
+    message(FATAL_ERROR "bad-input case '${case}' (two-rank subset) is not listed by ctest/bad_input.py --list: "
+                        "${ARIES_BAD_INPUT_CASES}")
+  endif()
+endforeach()
 foreach(case ${ARIES_BAD_INPUT_CASES})
   set(ranks_list 1)
   if(case IN_LIST ARIES_BAD_INPUT_NP2)
