@@ -38,14 +38,20 @@ def shape_error(rest, x, rigid=False):
         return float("nan"), float("nan")
     L = np.linalg.norm(rest.max(0) - rest.min(0))
     if rigid:
-        cr, cx = rest.mean(0), x.mean(0)
-        H = (x - cx).T @ (rest - cr)
-        U, _, Vt = np.linalg.svd(H)
-        D = np.diag([1, 1, np.sign(np.linalg.det(Vt.T @ U.T))])
-        Rm = Vt.T @ D @ U.T
-        x = (Rm @ (x - cx).T).T + cr
+        x = rigid_align(rest, x)
     dist = np.linalg.norm(x - rest, axis=1)
     return dist.max() / L, np.sqrt((dist**2).mean()) / L
+
+
+def rigid_align(rest, x):
+    """x moved by the rotation and translation that best fit it to rest (least squares over the vertices, Kabsch;
+    a proper rotation, never a reflection). n x 3 arrays; x must be finite."""
+    cr, cx = rest.mean(0), x.mean(0)
+    H = (x - cx).T @ (rest - cr)
+    U, _, Vt = np.linalg.svd(H)
+    D = np.diag([1, 1, np.sign(np.linalg.det(Vt.T @ U.T))])
+    Rm = Vt.T @ D @ U.T
+    return (Rm @ (x - cx).T).T + cr
 
 
 if __name__ == "__main__":
