@@ -57,7 +57,8 @@ ITERATIVE = ["CG + Jacobi", "CG + GAMG (rigid near-nullspace)", "CG + GAMG (no n
 STATIC = ["-integrator", "static"]  # a solver-study variant: the quasistatic (stiffness-dominated) version of a scene
 
 # ----------------------------------------------------------------------------------------------------------------
-# What each mode runs. quick: < 15 min on the 2-core machine; full: hours.
+# What each mode runs. quick: test meshes, minutes; full: hours on the 2-core machine. The report's header gives the
+# time each section of the run that made it took.
 MODES = {
     "quick": dict(
         acc_tols=[1e-1, 1e-2, 1e-3, 1e-4], acc_ref_tol=1e-7,
@@ -129,8 +130,8 @@ STAB_METHODS = SOLIDS[:2] + [("iarap (none)", ["-energy", "iarap", "-singularity
 CLOTHS = [("bw46s (ours, Eq. 53)", ["-energy", "bw46s"], "o-"), ("bw (Baraff-Witkin, Kim 2020)", ["-energy", "bw"], "x-"),
           ("bw46 (Lin 2022, Eq. 49)", ["-energy", "bw46"], "s-")]
 
-# GAMG with 8 Chebyshev smoothing steps per level (PETSc's default is 2): on the inside-out bunny's hard Newton systems
-# (mollifier blend band) it halves the PCG count at about the same cost per Newton iteration (docs/options.md).
+# GAMG with 8 Chebyshev smoothing steps per level (PETSc's default is 2), the configuration docs/options.md describes;
+# section 3 measures it against Jacobi.
 GAMG = ["-ksp_type", "cg", "-pc_type", "gamg", "-dm_mat_type", "aij", "-mg_levels_ksp_max_it", "8"]
 SOLVERS = [
     ("CG + Jacobi", ["-ksp_type", "cg", "-pc_type", "jacobi"]),
@@ -248,6 +249,23 @@ def mesh_cells(path):
     with open(path[:-4] + ".json") as fh:
         j = json.load(fh)
     return j.get("tets") or j.get("triangles") or j.get("cells")
+
+
+def mesh_extent(path):
+    """Rest bounding-box size (dx, dy, dz) of a generated mesh, from its .json."""
+    with open(path[:-4] + ".json") as fh:
+        j = json.load(fh)
+    return [hi - lo for lo, hi in zip(j["bbox_min"], j["bbox_max"])]
+
+
+def yml(name, key):
+    """A scene's option value as written in options/NAME.yml ('-' if it does not set it): the report describes the
+    scenes from the files it runs, not from text typed here."""
+    return scenes.yml_value(name, key, [])
+
+
+def vec(text):
+    return [float(v) for v in text.split(",")]
 
 
 def fmt_err(e):
@@ -422,13 +440,16 @@ def section_speed_accuracy(cfg):
         return opts_file("cylinder_compress") + ["-dm_plex_filename", cyl[s], "-integrator", "static", "-steps",
                                                  str(cfg["cyl_steps"])]
     out.append("### Cylinder compress (Fig. 6 scene, quasistatic)\n")
-    out.append("options/cylinder_compress.yml (E = 1e4, nu = 0.3, top moved 0.6 = 30%% down) run quasistatically: "
-               "`-integrator static -steps %d` (load steps; the static Newton tolerance is newton_tol x L). Meshes: %s. "
-               "Reference: iarap (mollifier) on the %s mesh at `-newton_tol %g`; all methods are compared with it "
-               "(kim_aa is a different energy, its error includes the model difference).\n"
-               % (cfg["cyl_steps"], sizes, cfg["cyl_meshes"][-1], cfg["acc_ref_tol"]))
-    lines, png = accuracy_scene(cfg, "cylinder", "Cylinder compress 30%% (static, %d load steps): error vs time"
-                                % cfg["cyl_steps"], cyl_args, cfg["cyl_meshes"], SOLIDS, cfg["acc_tols"],
+    dz = -vec(yml("cylinder_compress", "bc_clamp_top_translate"))[2]
+    height = mesh_extent(cyl[cfg["cyl_meshes"][-1]])[2]
+    out.append("options/cylinder_compress.yml (E = %s, nu = %s, top moved %g = %.0f%% of the height down) run "
+               "quasistatically: `-integrator static -steps %d` (load steps; the static Newton tolerance is newton_tol x "
+               "L). Meshes: %s. Reference: iarap (mollifier) on the %s mesh at `-newton_tol %g`; all methods are "
+               "compared with it (kim_aa is a different energy, its error includes the model difference).\n"
+               % (yml("cylinder_compress", "E"), yml("cylinder_compress", "nu"), dz, 100 * dz / height,
+                  cfg["cyl_steps"], sizes, cfg["cyl_meshes"][-1], cfg["acc_ref_tol"]))
+    lines, png = accuracy_scene(cfg, "cylinder", "Cylinder compress %.0f%% (static, %d load steps): error vs time"
+                                % (100 * dz / height, cfg["cyl_steps"]), cyl_args, cfg["cyl_meshes"], SOLIDS, cfg["acc_tols"],
                                 cfg["acc_ref_tol"], "iarap (mollifier)", False, False, False, 1e-3,
                                 cfg["cyl_big_methods"], cfg["cyl_big_tols"], T)
     out += ["![cylinder: error vs time](%s/%s)\n" % (IMG_REL, os.path.basename(png))] + lines + [""]
@@ -440,10 +461,12 @@ def section_speed_accuracy(cfg):
         return opts_file("armadillo_scramble") + ["-dm_plex_filename", arm[s], "-integrator", "static", "-steps", "1",
                                                   "-snes_max_it", "500"]
     out.append("### Armadillo scramble (Fig. 4 scene, quasistatic)\n")
-    out.append("options/armadillo_scramble.yml (E = 1e5, nu = 0, every free vertex random in a cube of twice the rest "
-               "volume, hands and feet pinned) solved quasistatically in one step: `-integrator static -steps 1 "
+    out.append("options/armadillo_scramble.yml (E = %s, nu = %s, every free vertex random in a cube of %s times the "
+               "rest volume, hands and feet pinned) solved quasistatically in one step: `-integrator static -steps 1 "
                "-snes_max_it 500`. The exact solution is the rest shape (the only zero-energy state with the pins), so "
-               "the error is the distance to rest, on each mesh. Meshes: %s.\n" % sizes)
+               "the error is the distance to rest, on each mesh. Meshes: %s.\n"
+               % (yml("armadillo_scramble", "E"), yml("armadillo_scramble", "nu"),
+                  yml("armadillo_scramble", "scramble_volume_ratio"), sizes))
     lines, png = accuracy_scene(cfg, "armadillo", "Armadillo scramble, static recovery: error vs time", arm_args,
                                 cfg["arm_meshes"], SOLIDS, cfg["acc_tols"], None, None, False, False, True, 1e-3,
                                 cfg["arm_big_methods"], cfg["arm_big_tols"], T)
@@ -457,11 +480,16 @@ def section_speed_accuracy(cfg):
         return opts_file("cloth_stretch_ours") + ["-dm_plex_filename", clo[s], "-steps", str(n), "-bc_ramp_steps",
                                                   str(n)]
     out.append("### Cloth stretch (Fig. 10 scene, backward Euler)\n")
-    out.append("options/cloth_stretch_ours.yml (mu1 = 20, mu2 = 30, fibers [1,1]/[1,-1], bending 1e-3, gravity, left and "
-               "right edges pulled apart 30%%) for %d steps of dt = 1e-2 with the pull ramped over those %d steps, "
-               "`-energy` bw46s / bw / bw46. The three energies are different materials, so each is compared with its "
-               "own reference: the same energy on the %s mesh at `-newton_tol %g` (dynamic tolerance newton_tol x L x "
-               "dt). Meshes: %s.\n" % (n, n, cfg["cloth_meshes"][-1], cfg["cloth_ref_tol"], sizes))
+    c = "cloth_stretch_ours"
+    pull = vec(yml(c, "bc_clamp_right_translate"))[0] - vec(yml(c, "bc_clamp_left_translate"))[0]
+    width = mesh_extent(clo[cfg["cloth_meshes"][-1]])[0]
+    out.append("options/cloth_stretch_ours.yml (mu1 = %s, mu2 = %s, fibers [%s]/[%s], bending %s, gravity, left and "
+               "right edges pulled apart by %g = %.0f%% of the width) for %d steps of dt = %s with the pull ramped over "
+               "those %d steps, `-energy` bw46s / bw / bw46. The three energies are different materials, so each is "
+               "compared with its own reference: the same energy on the %s mesh at `-newton_tol %g` (dynamic "
+               "tolerance newton_tol x L x dt). Meshes: %s.\n"
+               % (yml(c, "mu1"), yml(c, "mu2"), yml(c, "fiber"), yml(c, "fiber2"), yml(c, "bending"), pull,
+                  100 * pull / width, n, yml(c, "dt"), n, cfg["cloth_meshes"][-1], cfg["cloth_ref_tol"], sizes))
     lines, png = accuracy_scene(cfg, "cloth", "Cloth stretch (%d steps, backward Euler): error vs time" % n, cloth_args,
                                 cfg["cloth_meshes"], CLOTHS, cfg["cloth_tols"], cfg["cloth_ref_tol"], None, True, False,
                                 False, 1e-3, None, None, T)
@@ -472,6 +500,13 @@ def section_speed_accuracy(cfg):
 # ----------------------------------------------------------------------------------------------------------------
 # Section 2: stability matrix
 RECOVERY_TOL = 1e-3
+COMPRESS_DZ, COMPRESS_STEPS = 1.8, 50  # the compression test: the cylinder's top moved down by this, in these steps
+
+
+def compression_ratio(cyl):
+    """Rest height : compressed height of the compression test on the cylinder mesh `cyl`."""
+    h = mesh_extent(cyl)[2]
+    return h, h / (h - COMPRESS_DZ)
 
 
 def classify(r, err):
@@ -513,9 +548,10 @@ def stress_tests(cfg):
         tests.append(("collapse onto a %s, armadillo %s" % (kind, s), "collapse " + kind, arm,
                       pins + ["-initial", "collapse_" + kind], "rest"))
     cyl = mesh("cylinder", s)
-    tests.append(("10:1 compression, cylinder %s" % s, "10:1 compression", cyl,
-                  opts_file("cylinder_compress") + ["-bc_clamp_top_translate", "0,0,-1.8", "-integrator", "beuler",
-                                                    "-steps", "50"], "iarap"))
+    ratio = "%.0f:1 compression" % compression_ratio(cyl)[1]
+    tests.append(("%s, cylinder %s" % (ratio, s), ratio, cyl,
+                  opts_file("cylinder_compress") + ["-bc_clamp_top_translate", "0,0,-%g" % COMPRESS_DZ, "-integrator",
+                                                    "beuler", "-steps", str(COMPRESS_STEPS)], "iarap"))
     cube = mesh("cube", "test")
     tests.append(("random-F patch, cube test", "random-F patch", cube,
                   ["-bc_clamp", "5", "-initial", "scramble", "-scramble_volume_ratio", "1", "-scramble_seed", "7",
@@ -550,6 +586,9 @@ def section_stability(cfg):
             state, reason = classify(r, err if refkind == "rest" else (err if err is not None and not math.isfinite(err)
                                                                       else 0.0 if r.rc == 0 else None))
             cells[(tlabel, mlabel)] = (state, reason, r.sum("newton_its") if r.rows else 0, err, tkind, r.wall)
+    cyl_h, cyl_ratio = compression_ratio(mesh("cylinder", cfg["stab_mesh"]))
+    c = "cylinder_compress"
+    cube_cells = "{:,}".format(mesh_cells(mesh("cube", "test")))
     out = ["## 2. Stability matrix\n",
            "Every stress test but the compression is a quasistatic solve (`-integrator static`, 1 step; `-snes_max_it %d` "
            "and a %d s time limit per run for all) "
@@ -559,19 +598,20 @@ def section_stability(cfg):
            "group 5); **inside-out** (`-initial invert`, every free vertex reflected through the centroid, armadillo "
            "with pins); **collapse onto a plane / line / point** (`-initial collapse_plane|collapse_line|"
            "collapse_point`: every free vertex of the pinned armadillo moved onto the plane z = z_c, the line "
-           "(y, z) = (y_c, z_c), or the centroid c; every element starts with zero volume); **10:1 compression** "
-           "(options/cylinder_compress.yml on the test mesh, E = 1e4, nu = 0.3, but the top moved down 1.8 of the "
-           "height 2 over 50 backward Euler steps of dt = 1e-2: a quasistatic 10:1 compression of the clamped "
-           "cylinder stalls every method at ~2.7:1, where it buckles, so this test is dynamic as in the paper); **random-F patch** (the test cube, 1,296 tets, bottom clamped, every other vertex uniform in "
-           "a cube of the same volume: every element gets an unrelated random F, many inverted; E = 1e4, "
-           "nu = 0.3).\n" % (cfg["stab_max_it"], cfg["stab_timeout"]),
+           "(y, z) = (y_c, z_c), or the centroid c; every element starts with zero volume); **%.0f:1 compression** "
+           "(options/cylinder_compress.yml on the %s mesh, E = %s, nu = %s, but the top moved down %g of the "
+           "height %g over %d backward Euler steps of dt = %s: dynamic, as in the paper); **random-F patch** (the "
+           "test cube, %s tets, bottom clamped, every other vertex uniform in a cube of the same volume: every "
+           "element gets an unrelated random F, many inverted; E = 1e4, nu = 0.3).\n"
+           % (cfg["stab_max_it"], cfg["stab_timeout"], cyl_ratio, cfg["stab_mesh"], yml(c, "E"), yml(c, "nu"),
+              COMPRESS_DZ, cyl_h, COMPRESS_STEPS, yml(c, "dt"), cube_cells),
            "Cell: **state** (Newton its, final error / L). Error = max vertex distance to the rest shape / L; for the "
            "compression test the distance to the iarap (mollifier) final state. recovered = every step converged and "
            "error <= %.0e; stalled = finite state but not recovered (Newton hit its iteration limit, the line search "
            "failed, or it converged to a wrong state), or the time limit; NaN = non-finite energy/positions or a "
            "NaN/Inf in the Newton system (CG reports DIVERGED_NANORINF at once, `-ksp_converged_reason`); "
            "diverged = PETSc divergence (dtol, linear solve, domain) or error > 10 L; crashed = any other exit. For the "
-           "compression test, recovered = all 50 steps converged with a finite state.\n" % RECOVERY_TOL,
+           "compression test, recovered = all %d steps converged with a finite state.\n" % (RECOVERY_TOL, COMPRESS_STEPS),
            "Paper, for comparison: the scramble (Fig. 4) and the inside-out bunny (Fig. 5) recover with Eq. 39 + the "
            "mollifier or the barrier; Kim et al.'s Psi_AA fails at the first step of the scramble; it names collapse "
            "onto a point or a line and inversion as the configurations where I4-based forces become singular "
@@ -643,6 +683,7 @@ NEWTON_VARIANTS = [  # label, backward Euler options, static options
     ("default (subspace step, ...)", [], []),
 ]
 CONVERGED = ("newton_step", "converged_initial", "step_bound", "energy_roundoff")
+STATIC_STEPS, STATIC_PIN = 30, 0.1  # static scrambles: load steps; pinned: the bottom fraction of the bounding box
 
 
 def newton_history(r):
@@ -690,17 +731,17 @@ def section_newton(cfg):
     out += rows + [""]
 
     # static scrambles: box pin (bottom 10% of the rest bounding box), E = 1e4, nu = 0.3, 30 static steps
-    out += ["Static scramble (30 quasistatic steps, 2 ranks, every free vertex uniform in a cube of twice the rest "
-            "volume, the vertices in the bottom 10% of the rest bounding box pinned, iarap + mollifier, E = 1e4, "
+    out += ["Static scramble (%d quasistatic steps, 2 ranks, every free vertex uniform in a cube of twice the rest "
+            "volume, the vertices in the bottom %.0f%% of the rest bounding box pinned, iarap + mollifier, E = 1e4, "
             "nu = 0.3): step-1 Newton updates / linear solves, CG solves stopped by `-ksp_max_it` (all steps), final "
-            "max distance to rest / L, and whether all 30 steps converged. **plain** as above (also without the "
+            "max distance to rest / L, and whether all %d steps converged. **plain** as above (also without the "
             "rotational update and the detached start); **supported start** = the default with "
             "`-static_detached_start false` (the body solved with its supports from the scrambled start); **no shape "
             "stage** = the default with `-static_detached_shape_first false` (the detached relaxation with the full "
             "energy from the start); **default** = the detached start (step 1 relaxes the body without its supports, "
             "first without the volume terms, then with them, moves it rigidly onto its supports, then solves with "
             "them; all solves counted) and `-newton_rotation 3`. triceratops, hand and camel are CGAL surfaces beyond "
-            "the paper's scenes (meshes/README.md).\n",
+            "the paper's scenes (meshes/README.md).\n" % (STATIC_STEPS, 100 * STATIC_PIN, STATIC_STEPS),
             "| mesh | seed | plain: step 1 Newton | plain: error / L | plain: all converged | supported start: step 1 "
             "Newton | supported start: error / L | no shape stage: step 1 Newton | no shape stage: error / L | "
             "default: step 1 Newton / solves | default: CG at limit | default: error / L | default: all converged |",
@@ -712,7 +753,7 @@ def section_newton(cfg):
             meta = json.load(fh)
         lo, hi = meta["bbox_min"], meta["bbox_max"]
         box = "%g,%g,%g,%g,%g,%g" % (lo[0] - 1, hi[0] + 1, lo[1] - 1, hi[1] + 1, lo[2] - 1,
-                                      lo[2] + 0.1 * (hi[2] - lo[2]))
+                                      lo[2] + STATIC_PIN * (hi[2] - lo[2]))
         for seed in cfg["newton_seeds"]:
             cells = []
             for vlabel, variant in (("plain", PLAIN_STATIC), ("supported", SUPPORTED_START),
@@ -720,7 +761,7 @@ def section_newton(cfg):
                 tag = "newton_static_%s_%d_%s" % (mname, seed, vlabel)
                 hist = os.path.join(WORK, tag, "newton.csv")
                 r = Run(tag, ["-dm_plex_filename", m, "-energy", "iarap", "-E", "1e4", "-nu", "0.3", "-integrator",
-                              "static", "-steps", "30", "-initial", "scramble", "-scramble_seed", str(seed),
+                              "static", "-steps", str(STATIC_STEPS), "-initial", "scramble", "-scramble_seed", str(seed),
                               "-bc_box", box, "-newton_history", hist] + variant, ranks=2, timeout=600)
                 x = r.positions()
                 err = shape_error(r.rest(), x, False)[0] if x is not None and r.rows else None
@@ -860,8 +901,8 @@ def section_solvers(cfg):
                                                      big[0][6], big[0][3], "{:,}".format(big[0][2]), big[0][0])
         if "first Newton iteration" in big[0][0]:
             verdict += (" — measured on the first Newton system only (F = -I in every element, the easiest of the "
-                        "step); the hard systems that follow (elements in the mollifier's blend band) are measured "
-                        "by `bench/run full` (docs/results-full.md)")
+                        "step); the hard systems that follow (elements in the mollifier's blend band) are not in this "
+                        "report (`bench/run full` runs the first Newton iterations of that step)")
     else:
         verdict = "not measured in this mode"
     out.append("\nTarget: >= 10x fewer PCG iterations with GAMG than with Jacobi on the ~600k-tet inside-out bunny: "
@@ -898,8 +939,12 @@ def section_solvers(cfg):
 
 # ----------------------------------------------------------------------------------------------------------------
 # Section 4: ranks, memory, SpMV bandwidth vs STREAM
+STREAM_N, STREAM_REPEATS = 40000000, 20  # doubles per array, repetitions (the best one counts)
+
+
 def stream(ranks):
-    cmd = [STREAM] if ranks == 1 else ["mpiexec", "--quiet", "-n", str(ranks), "--bind-to", "none", STREAM]
+    prog = [STREAM, str(STREAM_N), str(STREAM_REPEATS)]
+    cmd = prog if ranks == 1 else ["mpiexec", "--quiet", "-n", str(ranks), "--bind-to", "none"] + prog
     p = subprocess.run(cmd, capture_output=True, text=True, env=ENV, timeout=600)
     best = [float(v) for v in re.findall(r"triad_best_GBps ([\d.]+)", p.stdout)]
     return sum(best), best
@@ -943,8 +988,9 @@ def section_scaling(cfg):
            "nnz = flops / (2 C). Byte model for BAIJ with 3x3 blocks, each matrix byte read once and x read once "
            "(perfect cache reuse of x, a lower bound on traffic): per product 8 nnz + 4 nnz/9 (block column indices) "
            "+ 4 n/3 (block row pointers) + 8 n (x) + 8 n (y written) bytes, n = DoFs. Achieved = bytes x C / T. "
-           "STREAM triad (`bench/stream_triad.c`, 3 arrays of 40M doubles, best of 20, measured in this run right "
-           "before the solver runs): 1 copy and 2 concurrent copies (summed).\n",
+           "STREAM triad (`bench/stream_triad.c`, 3 arrays of %s doubles, best of %d, measured in this run right "
+           "before the solver runs): 1 copy and 2 concurrent copies (summed).\n"
+           % ("{:,}".format(STREAM_N), STREAM_REPEATS),
            "| ranks | DoFs | solver time [s] | speed-up | peak RSS per rank [MB] | total peak RSS / DoF [bytes] | MatMult "
            "count | MatMult time [s] | SpMV bandwidth [GB/s] | STREAM triad same ranks [GB/s] | fraction |",
            "|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|"]
@@ -973,9 +1019,9 @@ def section_scaling(cfg):
     SUMMARY["scaling"] = (res, s1, s2, cells_n, size)
     out += ["", "STREAM triad: 1 copy %.2f GB/s; 2 concurrent copies %s GB/s (sum %.2f GB/s)." % (
         s1, " + ".join("%.2f" % v for v in s2each), s2),
-            "", "Paper: no scaling or memory figures; its inside-out bunny (637,584 tets) averaged %.1f Newton and "
-            "%.1f PCG iterations and %.2f s per step on a 20-core i9 (Table 1)." % tuple(
-                scenes.SCENES["bunny_inside_out"][3][5:8]), ""]
+            "", "Paper: no scaling or memory figures; its inside-out bunny ({:,} tets) averaged %.1f Newton and "
+            "%.1f PCG iterations and %.2f s per step on a 20-core i9 (Table 1).".format(
+                scenes.SCENES["bunny_inside_out"][3][0]) % tuple(scenes.SCENES["bunny_inside_out"][3][5:8]), ""]
     # chart
     fig, axs = plt.subplots(1, 2, figsize=(10, 4))
     axs[0].bar(["1 rank", "2 ranks"], [res[1]["t"], res[2]["t"]], color=["#1f77b4", "#ff7f0e"])
@@ -1119,9 +1165,9 @@ def main():
                 "%.1f GB/s (1 copy), %.1f GB/s (2 concurrent copies)" % (s1, s2) if s1 else "not measured (section 4 not run)", " ".join(load0),
                 " ".join(load1), os.cpu_count(), os.cpu_count(), commit, " + uncommitted changes" if dirty else "", os.path.relpath(a.build, ROOT)),
             "**Paper:** 20-core 3.8 GHz Intel i9, Eigen PCG + diagonal preconditioner (Table 1/2). Mode `%s`: %s\n" % (
-                a.mode, "reduced sizes, steps and tolerances so the whole run fits in 15 minutes on 2 cores; every "
-                "reduction is stated in its section. `bench/run full` runs the larger configuration and writes "
-                "docs/results-full.md."
+                a.mode, "reduced sizes, steps and tolerances (the time this run took is in the line above); every "
+                "reduction is stated in its section. `bench/run full` runs the larger configuration "
+                "(hours) and writes docs/results-full.md."
                 if a.mode == "quick" else "the full configuration."),
             "## Summary\n"]
     summ = []
