@@ -5,6 +5,7 @@
 #include "fem/discretization.hpp"
 #include "core/errors.hpp"
 #include "core/options.hpp"
+#include "io/io_options.hpp"
 #include "io/options_help.hpp"
 #include "io/run_output.hpp"
 #include "io/version.hpp"
@@ -42,7 +43,11 @@ PetscErrorCode unusedOptions(std::string *unused) {
   PetscCall(PetscOptionsLeftGet(nullptr, &n, &names, &values));
   unused->clear();
   for (PetscInt i = 0; i < n; ++i)
-    if (!readLater(names[i])) *unused += std::string(unused->empty() ? "" : ", ") + "-" + names[i];
+    if (!readLater(names[i])) {
+      const std::string near = core::nearestDeclared(std::string("-") + names[i]);
+      *unused += std::string(unused->empty() ? "" : ", ") + "-" + names[i] +
+                 (near.empty() ? "" : " (did you mean " + near + "?)");
+    }
   PetscCall(PetscOptionsLeftRestore(nullptr, &n, &names, &values));
   PetscFunctionReturn(0);
 }
@@ -72,7 +77,8 @@ PetscErrorCode run(int *exitCode) {
   PetscFunctionBeginUser;
   PetscBool showVersion = PETSC_FALSE;
   PetscCall(PetscOptionsHasName(nullptr, nullptr, "-help", &help));
-  PetscCall(PetscOptionsHasName(nullptr, nullptr, "-version", &showVersion));
+  io::registerOptionSections();
+  PetscCall(core::get(io::opt::version, &showVersion));
   PetscBool haveMesh = PETSC_FALSE;
   PetscCall(PetscOptionsHasName(nullptr, nullptr, "-dm_plex_filename", &haveMesh));
   if (help || showVersion) {  // PETSc has printed its own help / version text by now
@@ -85,7 +91,7 @@ PetscErrorCode run(int *exitCode) {
     // With a mesh, -help sets the run up (PETSc lists each object's options as it is configured) and stops there.
     if (!(help && haveMesh)) PetscFunctionReturn(0);
   }
-  PetscCall(core::optionBool(nullptr, "-strict", &strict, nullptr));
+  PetscCall(core::get(io::opt::strict, &strict));
   PetscCall(PetscLogStageRegister("setup", &setupStage));
   PetscCall(PetscLogStagePush(setupStage));
   solver::SimulationOptions simOpts;

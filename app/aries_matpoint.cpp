@@ -10,6 +10,8 @@
 #include "fem/material_options.hpp"
 #include "core/options.hpp"
 #include "core/errors.hpp"
+#include "io/options_help.hpp"
+#include "matpoint_options.hpp"
 
 #include <petscsys.h>
 
@@ -26,16 +28,24 @@ namespace {
 
 const char kHelp[] =
     "aries-matpoint: evaluate an aries energy at one deformation gradient F or along a deformation path.\n"
-    "  -energy NAME        one of the energies below\n"
-    "  -F v1,v2,...        F row-major: 9 values (3x3 tet), 4 (2x2 planar) or 6 (3x2 cloth)\n"
-    "  -json               print one JSON object: energy, pk1, hessian, hessian_psd, f, alpha, I4, I6\n"
-    "  -path P -max X -n N stress-strain CSV along P = uniaxial|compress (uniaxial stress: lateral stretches relaxed\n"
-    "                      to zero lateral stress) or shear (simple shear F = I + g e_x e_y); -shape tet|planar|cloth\n"
-    "  material options: see docs/options.md\n";
+    "  aries-matpoint -energy NAME -F v1,... [material options] [-json]\n"
+    "  aries-matpoint -energy NAME -path uniaxial|compress|shear [-max X] [-n N] [-shape S] [material options]\n";
 
-// The energies of the registry with their shapes and own options.
-void printEnergies() {
-  std::printf("energies (-energy NAME):\n");
+// This tool's options, the material options it shares with the solver, and the energies of the registry.
+const std::vector<core::OptionSection> &sections() {
+  static const std::vector<core::OptionSection> all = [] {
+    std::vector<core::OptionSection> s{matpoint::opt::kSection};
+    for (const auto &sec : io::optionSections())
+      if (std::string(sec.key) == "material" || std::string(sec.key) == "singularity") s.push_back(sec);
+    return s;
+  }();
+  return all;
+}
+
+void printHelp() {
+  std::printf("%s", kHelp);
+  for (const auto &s : sections()) std::printf("%s", io::sectionHelpText(s).c_str());
+  std::printf("energies (-energy NAME) and their own options:\n");
   for (const auto &e : energies::kEnergyRegistry) {
     std::string shapes;
     for (auto [on, tag] : {std::pair{e.tet, "tet"}, std::pair{e.planar, "planar"}, std::pair{e.cloth, "cloth"}})
@@ -208,18 +218,18 @@ PetscErrorCode runPath(const energies::Material &m, const fem::UniformCellData &
 }
 
 PetscErrorCode run() {
-  PetscBool json = PETSC_FALSE, set = PETSC_FALSE;
+  PetscBool json = PETSC_FALSE;
   PetscFunctionBeginUser;
-  PetscCall(core::optionBool(nullptr, "-json", &json, nullptr));
+  PetscCall(core::get(matpoint::opt::json, &json));
   std::vector<PetscReal> Fv;
-  PetscBool hasF = PETSC_FALSE;
-  PetscCall(core::optionRealList(nullptr, "-F", &Fv, &hasF));
-  std::string path;
-  PetscBool hasPath = PETSC_FALSE;
-  PetscCall(core::optionString(nullptr, "-path", &path, &hasPath));
+  PetscBool hasF = PETSC_FALSE, hasPath = PETSC_FALSE;
+  PetscCall(core::get(matpoint::opt::F, &Fv, &hasF));
+  int path = 0;  // uniaxial|compress|shear
+  PetscCall(core::getChoice(matpoint::opt::path, &path, &hasPath));
   if (hasF == hasPath)
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
             "give either -F v1,v2,... (9, 4 or 6 values) or -path uniaxial|shear|compress (see -help)");
+  const std::string pathName = core::choices(matpoint::opt::path)[path];
 
   ElementShape shape = ElementShape::Tet;
   if (hasF) {
@@ -230,14 +240,9 @@ PetscErrorCode run() {
       SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
               "option -F takes 9 (3x3 tet), 4 (2x2 planar) or 6 (3x2 cloth) row-major values, got %d", (int)Fv.size());
   } else {
-    std::string s = "tet";
-    PetscCall(core::optionString(nullptr, "-shape", &s, nullptr));
-    if (s == "tet") shape = ElementShape::Tet;
-    else if (s == "planar") shape = ElementShape::Planar;
-    else if (s == "cloth") shape = ElementShape::Cloth;
-    else SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -shape: '%s' is not tet|planar|cloth", s.c_str());
-    if (path != "uniaxial" && path != "shear" && path != "compress")
-      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -path: '%s' is not uniaxial|shear|compress", path.c_str());
+    int s = 0;  // tet|planar|cloth
+    PetscCall(core::getChoice(matpoint::opt::shape, &s));
+    shape = s == 0 ? ElementShape::Tet : s == 1 ? ElementShape::Planar : ElementShape::Cloth;
   }
 
   energies::Material m;
@@ -251,19 +256,17 @@ PetscErrorCode run() {
     if (shape == ElementShape::Cloth) PetscCall(evaluateAt<3, 2>(m, cell, kernels::unflatten<3, 2>(Vec<6>(Fv.data())), json));
     PetscFunctionReturn(0);
   }
-  PetscReal maxAmount = 0.1;
-  PetscInt n = 10;
-  PetscCall(core::optionReal(nullptr, "-max", &maxAmount, &set));
-  PetscCall(core::optionInt(nullptr, "-n", &n, nullptr));
-  if (!(maxAmount > 0.0)) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -max must be > 0 (got %g)", (double)maxAmount);
-  if (path == "compress" && !(maxAmount < 1.0))
+  PetscReal maxAmount = 0.0;
+  PetscInt n = 0;
+  PetscCall(core::get(matpoint::opt::maxAmount, &maxAmount));
+  PetscCall(core::get(matpoint::opt::points, &n));
+  if (pathName == "compress" && !(maxAmount < 1.0))
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -max: compression must be < 1 (got %g)", (double)maxAmount);
-  if (n < 1 || n > 1000000) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -n must be in 1..1000000 (got %d)", (int)n);
   if (json) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "-json applies to -F evaluations; -path prints CSV");
   PetscCall(core::rejectUnusedOptions());
-  if (shape == ElementShape::Tet) PetscCall(runPath<3, 3>(m, cell, path, maxAmount, n));
-  if (shape == ElementShape::Planar) PetscCall(runPath<2, 2>(m, cell, path, maxAmount, n));
-  if (shape == ElementShape::Cloth) PetscCall(runPath<3, 2>(m, cell, path, maxAmount, n));
+  if (shape == ElementShape::Tet) PetscCall(runPath<3, 3>(m, cell, pathName, maxAmount, n));
+  if (shape == ElementShape::Planar) PetscCall(runPath<2, 2>(m, cell, pathName, maxAmount, n));
+  if (shape == ElementShape::Cloth) PetscCall(runPath<3, 2>(m, cell, pathName, maxAmount, n));
   PetscFunctionReturn(0);
 }
 
@@ -272,13 +275,13 @@ PetscErrorCode run() {
 int main(int argc, char **argv) {
   for (int i = 1; i < argc; ++i)
     if (std::string(argv[i]) == "-help" || std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") {
-      std::printf("%s", kHelp);  // this tool's help only (PETSc's generic option list does not apply here)
-      printEnergies();
+      printHelp();  // this tool's help only (PETSc's generic option list does not apply here)
       return 0;
     }
   PetscErrorCode ierr = PetscInitialize(&argc, &argv, nullptr, nullptr);
   if (ierr) return 2;
   ierr = core::installErrorHandler("aries-matpoint");
+  core::registerOptionSections(sections().data(), static_cast<int>(sections().size()));
   if (!ierr) ierr = run();
   const int code = core::exitCodeFor(ierr);
   PetscOptionsClear(nullptr);  // unused options were already reported; keep PetscFinalize quiet

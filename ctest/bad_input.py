@@ -116,13 +116,13 @@ def case_defs():
     d["unknown_energy"] = (lambda: ["-dm_plex_filename", good_mesh(), "-energy", "neohookean"],
                            r"option -energy: unknown energy 'neohookean'")
     d["unknown_singularity"] = (lambda: ["-dm_plex_filename", good_mesh(), "-singularity", "magic"],
-                                r"option -singularity: unknown mode 'magic'")
+                                r"option -singularity: 'magic' is not none\|mollifier\|barrier")
     d["E_not_a_number"] = (lambda: ["-dm_plex_filename", good_mesh(), "-E", "1e4x"],
                            r"option -E: '1e4x' is not a finite number")
     d["E_nan"] = (lambda: ["-dm_plex_filename", good_mesh(), "-E", "nan"], r"option -E: 'nan' is not a finite number")
-    d["E_negative"] = (lambda: ["-dm_plex_filename", good_mesh(), "-E", "-5"], r"option -E: Young's modulus must be > 0")
+    d["E_negative"] = (lambda: ["-dm_plex_filename", good_mesh(), "-E", "-5"], r"option -E must be > 0 \(got -5\)")
     d["nu_half"] = (lambda: ["-dm_plex_filename", good_mesh(), "-nu", "0.5"],
-                    r"option -nu: Poisson's ratio must be in \[0, 0\.5\)")
+                    r"option -nu must be in \[0, 0\.5\) \(got 0\.5\)")
     d["dt_negative"] = (lambda: ["-dm_plex_filename", good_mesh(), "-dt", "-1e-2"], r"option -dt must be > 0")
     d["density_zero"] = (lambda: ["-dm_plex_filename", good_mesh(), "-density", "0"], r"option -density must be > 0")
     d["unknown_bc_set"] = (lambda: ["-dm_plex_filename", good_mesh(), "-bc_clamp", "top"],

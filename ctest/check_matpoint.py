@@ -16,6 +16,9 @@ modes
         `-path uniaxial -max 1e-4 -n 4` with E = 1e4, nu = 0.3: every row converged, the effective modulus P11/strain
         is E (tet) or E/(1-nu^2) (planar, plane strain) within 1%, the lateral contraction (F22-1)/strain is -nu or
         -nu/(1-nu) within 1%.
+  help --docs docs/options.md
+        `MATPOINT -help`: exit code 0 and every option of docs/options.md's aries-matpoint, material and singularity
+        tables listed with its default (the tables and the help come from the same declarations), every energy too.
   error [--contains TEXT] -- ARGS
         `MATPOINT ARGS` must exit with code 1, print nothing on stdout and exactly one line on stderr, starting with
         "aries-matpoint: error:" (and containing TEXT if given).
@@ -246,6 +249,27 @@ def mode_path(matpoint, shape):
 
 
 # ---------------------------------------------------------------------------------------------------------------------
+def mode_help(matpoint, docs):
+    import re
+    code, out, _ = run(matpoint, ["-help"])
+    check(code == 0, f"-help exit code {code}")
+    with open(docs) as fh:
+        md = fh.read()
+    rows = []
+    for key in ("matpoint", "material", "singularity"):
+        body = re.search(r"<!-- options:%s -->\n(.*?)<!-- /options -->" % key, md, re.S)
+        if not check(body is not None, f"docs block {key} missing"):
+            continue
+        for usage, default in re.findall(r"^\| `([^`]+)` \| ([^|]*(?:\\\|[^|]*)*) \|", body.group(1), re.M):
+            rows.append((usage.replace("\\|", "|"), default.replace("`", "").replace("\\|", "|").strip()))
+    check(len(rows) >= 20, f"only {len(rows)} option rows in the docs' matpoint/material/singularity tables")
+    for usage, default in rows:
+        check(f"  {usage} [{default}]" in out, f"-help does not list '{usage} [{default}]'")
+    energies = re.search(r"<!-- options:energies -->\n(.*?)<!-- /options -->", md, re.S).group(1)
+    for name in re.findall(r"^\| `([a-z0-9_]+)` \|", energies, re.M):
+        check(re.search(r"^  %s " % re.escape(name), out, re.M) is not None, f"-help does not list energy {name}")
+
+
 def mode_error(matpoint, opts, args):
     code, out, err = run(matpoint, args)
     check(code == 1, f"exit code {code}, expected 1")
@@ -290,6 +314,8 @@ def main(argv):
         mode_path(matpoint, opts.get("shape", "tet"))
     elif mode == "error":
         mode_error(matpoint, opts, args)
+    elif mode == "help":
+        mode_help(matpoint, opts["docs"])
     else:
         print(f"check_matpoint.py: unknown mode {mode!r}", file=sys.stderr)
         return 2

@@ -53,3 +53,6 @@ aries_matpoint_check(error.bw461_non_orthogonal error --contains "bw46s"
                      -- -energy bw461 -fiber 1,0 -fiber2 1,1 -F 1,0,0,1,0,0)
 aries_matpoint_check(error.json_with_path error --contains "-json" -- -energy iarap -path uniaxial -json)
 aries_matpoint_check(error.no_F_no_path error -- -energy iarap)
+
+# -help lists this tool's options, the material options and the energies as docs/options.md does (one declaration).
+aries_matpoint_check(help help --docs ${CMAKE_SOURCE_DIR}/docs/options.md)

@@ -4,6 +4,8 @@
 // same options database and raises the same error.
 #pragma once
 
+#include "core/option_decl.hpp"
+
 #include <petscsys.h>
 
 #include <string>
@@ -26,6 +28,49 @@ PetscErrorCode optionWordList(const char *prefix, const char *name, std::vector<
 
 // Parses a finite real number; false if `text` is not one entirely.
 bool parseReal(const std::string &text, double *value);
+
+// Reading a declared option (core/option_decl.hpp). `prefix` reads it under a prefix (a region's material
+// "region_2_", a clamp set's "bc_clamp_top_"); `when` names the case that picks the default ("static", "beuler").
+// Unset, *value takes the declared default for `when`; where none applies (a computed default) it is left as it
+// is. Values and defaults go through the same parser and the declared bounds.
+struct ReadContext {
+  const char *prefix = nullptr;
+  const char *when = nullptr;
+  bool inherit = false;  // unset keeps *value (a region's material starts from the global one): no default
+};
+PetscErrorCode get(const OptionDecl &d, PetscReal *value, PetscBool *set = nullptr, ReadContext at = {});
+PetscErrorCode get(const OptionDecl &d, PetscInt *value, PetscBool *set = nullptr, ReadContext at = {});
+PetscErrorCode get(const OptionDecl &d, PetscBool *value, PetscBool *set = nullptr, ReadContext at = {});
+PetscErrorCode get(const OptionDecl &d, std::string *value, PetscBool *set = nullptr, ReadContext at = {});
+PetscErrorCode get(const OptionDecl &d, std::vector<PetscReal> *value, PetscBool *set = nullptr, ReadContext at = {});
+PetscErrorCode get(const OptionDecl &d, std::vector<std::string> *value, PetscBool *set = nullptr,
+                   ReadContext at = {});
+// The declared default for `when` without reading the option (it stays unused); *value unchanged if none applies.
+PetscErrorCode getDefault(const OptionDecl &d, PetscReal *value, const char *when = nullptr);
+// A Choice: *index is the position of the value among the declared choices ("static|beuler": 0 or 1).
+PetscErrorCode getChoice(const OptionDecl &d, int *index, PetscBool *set = nullptr, ReadContext at = {});
+template <class Enum>
+PetscErrorCode getChoice(const OptionDecl &d, Enum *value, PetscBool *set = nullptr, ReadContext at = {}) {
+  int index = static_cast<int>(*value);
+  PetscFunctionBeginUser;
+  PetscCall(getChoice(d, &index, set, at));
+  *value = static_cast<Enum>(index);
+  PetscFunctionReturn(0);
+}
+
+// Every section of every layer (io/options_help.cpp registers them at start-up): reading an option that no
+// section declares is then an internal error, so nothing can be read without being documented.
+void registerOptionSections(const OptionSection *sections, int count);
+// The declared option closest to `name` (an unused option: a misspelling?) within two edits, or "".
+std::string nearestDeclared(const std::string &name);
+// The declared bounds as users read them: "> 0", ">= 1", "in [0, 0.5)", "in 0..7"; "" without bounds.
+std::string boundsRule(const OptionDecl &d);
+// The declared name as the user types it: "-newton_tol", or for a family "-bc_clamp_<id>_translate".
+std::string declaredName(const OptionDecl &d);
+// The words of a Choice's `args` ("static|beuler" -> {"static", "beuler"}).
+std::vector<std::string> choices(const OptionDecl &d);
+// Checks a declaration: every default parses as a value of its type within its bounds. "" when fine.
+std::string checkDeclaration(const OptionDecl &d);
 
 }  // namespace aries::core
 

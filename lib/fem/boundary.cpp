@@ -1,16 +1,13 @@
 #include "fem/boundary.hpp"
 
 #include "core/options.hpp"
+#include "fem/fem_options.hpp"
 
 #include <cmath>
 
 namespace aries::fem {
 
 using core::optionName;
-using core::optionReal;
-using core::optionInt;
-using core::optionRealList;
-using core::optionWordList;
 
 Eigen::Vector3d ClampSet::target(const Eigen::Vector3d &X, double s) const {
   Eigen::Vector3d x = X;
@@ -28,19 +25,18 @@ PetscErrorCode readMotion(const std::string &prefix, ClampSet *c) {
   std::vector<PetscReal> v;
   PetscBool set = PETSC_FALSE;
   PetscFunctionBeginUser;
-  PetscCall(optionRealList(prefix.c_str(), "-translate", &v, &set, 3));
-  if (set) c->translate = Eigen::Vector3d(v[0], v[1], v[2]);
-  PetscCall(optionReal(prefix.c_str(), "-rotate", &c->angleDeg, &set));
+  const core::ReadContext at{prefix.c_str()};
+  PetscCall(core::get(opt::clampTranslate, &v, &set, at));
+  c->translate = Eigen::Vector3d(v[0], v[1], v[2]);
+  PetscCall(core::get(opt::clampRotate, &c->angleDeg, &set, at));
   if (set) {
-    PetscCall(optionRealList(prefix.c_str(), "-axis", &v, &set, 3));
-    if (set) {
-      c->axis = Eigen::Vector3d(v[0], v[1], v[2]);
-      if (!(c->axis.norm() > 0.0))
-        SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s must not be the zero vector",
-                optionName(prefix.c_str(), "-axis").c_str());
-      c->axis.normalize();
-    }
-    PetscCall(optionRealList(prefix.c_str(), "-center", &v, &set, 3));
+    PetscCall(core::get(opt::clampAxis, &v, &set, at));
+    c->axis = Eigen::Vector3d(v[0], v[1], v[2]);
+    if (!(c->axis.norm() > 0.0))
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s must not be the zero vector",
+              optionName(prefix.c_str(), "-axis").c_str());
+    c->axis.normalize();
+    PetscCall(core::get(opt::clampCenter, &v, &set, at));
     if (set) {
       c->center = Eigen::Vector3d(v[0], v[1], v[2]);
       c->centerGiven = true;
@@ -55,7 +51,7 @@ PetscErrorCode readBoundaryOptions(BoundarySpec *spec) {
   std::vector<std::string> ids;
   PetscBool set = PETSC_FALSE;
   PetscFunctionBeginUser;
-  PetscCall(optionWordList(nullptr, "-bc_clamp", &ids, &set));
+  PetscCall(core::get(opt::clamp, &ids, &set));
   for (const auto &id : ids) {
     for (const auto &other : spec->sets)
       if (other.id == id) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -bc_clamp lists '%s' twice", id.c_str());
@@ -65,7 +61,7 @@ PetscErrorCode readBoundaryOptions(BoundarySpec *spec) {
     spec->sets.push_back(c);
   }
   std::vector<PetscReal> box;
-  PetscCall(optionRealList(nullptr, "-bc_box", &box, &set));
+  PetscCall(core::get(opt::boxes, &box, &set));
   if (set) {
     if (box.empty() || box.size() % 6 != 0)
       SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
@@ -83,9 +79,7 @@ PetscErrorCode readBoundaryOptions(BoundarySpec *spec) {
       spec->sets.push_back(box);
     }
   }
-  PetscCall(optionInt(nullptr, "-bc_ramp_steps", &spec->rampSteps, &set));
-  if (set && spec->rampSteps < 1)
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -bc_ramp_steps must be >= 1 (got %d)", (int)spec->rampSteps);
+  PetscCall(core::get(opt::rampSteps, &spec->rampSteps, &set));
   PetscFunctionReturn(0);
 }
 

@@ -6,13 +6,10 @@
 #include "preprocess/caricature_field.hpp"
 #include "fem/cell_files.hpp"
 #include "core/options.hpp"
+#include "fem/fem_options.hpp"
 
 namespace aries::fem {
 
-using core::optionString;
-using core::optionReal;
-using core::optionRealList;
-using core::optionWordList;
 
 template <int R, int C>
 PetscErrorCode DiscretizationT<R, C>::readMaterials(Mesh &mesh, std::vector<UniformCellData> *regionCells,
@@ -25,7 +22,7 @@ PetscErrorCode DiscretizationT<R, C>::readMaterials(Mesh &mesh, std::vector<Unif
   regionCells->assign(1, baseCell);
   std::vector<std::string> regionIds;
   PetscBool set = PETSC_FALSE;
-  PetscCall(optionWordList(nullptr, "-regions", &regionIds, &set));
+  PetscCall(core::get(opt::regions, &regionIds, &set));
   for (const auto &rid : regionIds) {
     DMLabel label;
     PetscInt value;
@@ -45,16 +42,15 @@ template <int R, int C>
 PetscErrorCode DiscretizationT<R, C>::readDynamics() {
   PetscBool set = PETSC_FALSE;
   PetscFunctionBeginUser;
-  PetscCall(optionReal(nullptr, "-density", &dyn_.density, &set));
-  if (set && !(dyn_.density > 0.0))
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -density must be > 0 (got %g)", dyn_.density);
+  PetscCall(core::get(opt::density, &dyn_.density, &set));
   std::vector<PetscReal> g;
-  PetscCall(optionRealList(nullptr, "-gravity", &g, &set, R, 3));
-  if (set) {
-    for (size_t k = 0; k < g.size(); ++k) dyn_.gravity[k] = g[k];
-    if (R == 2 && g.size() == 3 && g[2] != 0.0)
-      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -gravity: a 2D mesh takes gx,gy (z must be 0)");
-  }
+  PetscCall(core::get(opt::gravity, &g, &set));
+  if (R == 3 && g.size() != 3)
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -gravity takes 3 comma-separated numbers on a 3D mesh, got %d",
+            (int)g.size());
+  if (R == 2 && g.size() == 3 && g[2] != 0.0)
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -gravity: a 2D mesh takes gx,gy (z must be 0)");
+  for (size_t k = 0; k < g.size() && k < static_cast<size_t>(R); ++k) dyn_.gravity[k] = g[k];
   PetscFunctionReturn(0);
 }
 
@@ -74,8 +70,8 @@ PetscErrorCode DiscretizationT<R, C>::setupCellData(Mesh &mesh, const std::vecto
     anyFibers = anyFibers || uses;
   }
   if (anyFibers) {
-    PetscCall(optionString(nullptr, "-fiber_file", &fiberFile, &hasFiberFile));
-    if (C == 2 && R == 3) PetscCall(optionString(nullptr, "-fiber2_file", &fiber2File, &hasFiber2File));
+    PetscCall(core::get(opt::fiberFile, &fiberFile, &hasFiberFile));
+    if (C == 2 && R == 3) PetscCall(core::get(opt::fiber2File, &fiber2File, &hasFiber2File));
   }
   if (hasFiberFile) PetscCall(readCellVectorFile(comm(), fiberFile, "-fiber_file", mesh.numCellsGlobal, C, &fibers));
   if (hasFiber2File)

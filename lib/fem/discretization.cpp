@@ -1,6 +1,7 @@
 #include "fem/discretization_impl.hpp"
 
 #include "core/options.hpp"
+#include "fem/fem_options.hpp"
 
 #include <petscdmplex.h>
 
@@ -9,8 +10,6 @@
 
 namespace aries::fem {
 
-using core::optionReal;
-using core::optionBool;
 
 using energies::ElementShape;
 
@@ -54,14 +53,11 @@ PetscErrorCode DiscretizationT<R, C>::setupTerms(Mesh &mesh, double dt, bool det
   PetscFunctionBeginUser;
   terms_ = {&cells_};
   if constexpr (R == 2 && C == 2) {
-    keepOrientation_ = mesh.uvMap ? PETSC_TRUE : PETSC_FALSE;
-    PetscCall(optionBool(nullptr, "-keep_orientation", &keepOrientation_, nullptr));
+    PetscCall(core::get(opt::keepOrientation, &keepOrientation_, nullptr, {nullptr, mesh.uvMap ? "uv_map" : nullptr}));
   }
   if constexpr (R == 3 && C == 2) {
     double bending = 0.0;
-    PetscCall(optionReal(nullptr, "-bending", &bending, &set));
-    if (!(bending >= 0.0))
-      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -bending must be >= 0 (got %g)", bending);
+    PetscCall(core::get(opt::bending, &bending, &set));
     if (bending > 0.0) {
       hinges_ = std::make_unique<BendingHinges>(verts_, bending);
       const auto opposite = [&](PetscInt cell, PetscInt v0, PetscInt v1) {

@@ -2,26 +2,32 @@
 
 #include "energies/registry.hpp"
 #include "core/options.hpp"
+#include "fem/fem_options.hpp"
 
 namespace aries::fem {
 
 using core::optionName;
-using core::optionString;
 using core::optionReal;
 using core::optionRealList;
+using core::OptionDecl;
+using core::ReadContext;
 
 using energies::ElementShape;
 using energies::EnergyKind;
 
 namespace {
 
-PetscErrorCode readDirection(const char *prefix, const char *name, ElementShape shape, Eigen::Vector3d *dir,
+PetscErrorCode readDirection(const OptionDecl &decl, ReadContext at, ElementShape shape, Eigen::Vector3d *dir,
                              PetscBool *set) {
   std::vector<PetscReal> v;
   const bool threeD = shape == ElementShape::Tet;
+  const char *prefix = at.prefix, *name = decl.name;
   PetscFunctionBeginUser;
-  PetscCall(optionRealList(prefix, name, &v, set, threeD ? 3 : 2, threeD ? -1 : 3));
-  if (*set) {
+  PetscCall(core::get(decl, &v, set, at));
+  if (threeD && !v.empty() && v.size() != 3)
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s takes 3 comma-separated numbers for tetrahedra, got %d",
+            optionName(prefix, name).c_str(), (int)v.size());
+  if (!v.empty()) {
     Eigen::Vector3d d = Eigen::Vector3d::Zero();
     for (size_t i = 0; i < v.size(); ++i) d[i] = v[i];
     if (!threeD && d[2] != 0.0)
@@ -115,33 +121,23 @@ PetscErrorCode readEnergyParams(const char *prefix, const energies::EnergyInfo &
 // (default 1e4, 0.3) or -mu/-lambda, not both; a region keeps its base's moduli unless it gives its own.
 PetscErrorCode readModuli(const char *prefix, bool cloth, const energies::Material *base, energies::Material *m) {
   PetscFunctionBeginUser;
+  const ReadContext at{prefix, nullptr, base != nullptr};
   if (cloth) {
-    if (!base) m->mu1 = m->mu2 = 20.0;
-    PetscCall(optionReal(prefix, "-mu1", &m->mu1, nullptr));
-    if (energies::energyInfo(m->kind).mu2) PetscCall(optionReal(prefix, "-mu2", &m->mu2, nullptr));
+    // An energy without a shear term keeps -mu2's default: it enters the modulus that scales contact (max(mu1, mu2)).
+    if (!base) PetscCall(core::getDefault(opt::clothShear, &m->mu2));
+    PetscCall(core::get(opt::clothStretch, &m->mu1, nullptr, at));
+    if (energies::energyInfo(m->kind).mu2) PetscCall(core::get(opt::clothShear, &m->mu2, nullptr, at));
   } else {
-    PetscReal E = 1e4, nu = 0.3;
+    PetscReal E = 0.0, nu = 0.0;
     PetscBool hasE = PETSC_FALSE, hasNu = PETSC_FALSE, hasMu = PETSC_FALSE, hasLambda = PETSC_FALSE;
-    PetscCall(optionReal(prefix, "-E", &E, &hasE));
-    PetscCall(optionReal(prefix, "-nu", &nu, &hasNu));
-    PetscCall(optionReal(prefix, "-mu", &m->mu, &hasMu));
-    PetscCall(optionReal(prefix, "-lambda", &m->lambda, &hasLambda));
+    PetscCall(core::get(opt::youngsModulus, &E, &hasE, {prefix}));
+    PetscCall(core::get(opt::poissonRatio, &nu, &hasNu, {prefix}));
+    PetscCall(core::get(opt::lameMu, &m->mu, &hasMu, at));
+    PetscCall(core::get(opt::lameLambda, &m->lambda, &hasLambda, at));
     if ((hasE || hasNu) && (hasMu || hasLambda))
       SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "give the moduli either as %s/%s or as %s/%s, not both",
               optionName(prefix, "-E").c_str(), optionName(prefix, "-nu").c_str(), optionName(prefix, "-mu").c_str(),
               optionName(prefix, "-lambda").c_str());
-    if (hasE && !(E > 0.0))
-      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: Young's modulus must be > 0 (got %g)",
-              optionName(prefix, "-E").c_str(), (double)E);
-    if (hasNu && !(nu >= 0.0 && nu < 0.5))
-      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: Poisson's ratio must be in [0, 0.5) (got %g)",
-              optionName(prefix, "-nu").c_str(), (double)nu);
-    if (hasMu && !(m->mu >= 0.0))
-      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s must be >= 0 (got %g)",
-              optionName(prefix, "-mu").c_str(), (double)m->mu);
-    if (hasLambda && !(m->lambda >= 0.0))
-      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s must be >= 0 (got %g)",
-              optionName(prefix, "-lambda").c_str(), (double)m->lambda);
     if (hasE || hasNu || (!base && !hasMu && !hasLambda)) {
       m->mu = energies::lameMu(E, nu);
       m->lambda = energies::lameLambda(E, nu);
@@ -173,15 +169,14 @@ PetscErrorCode readMaterialOptions(const char *prefix, ElementShape shape, const
   PetscFunctionBeginUser;
 
   std::string name;
-  PetscCall(optionString(prefix, "-energy", &name, &set));
-  if (set) {
+  const ReadContext at{prefix, cloth ? "cloth" : nullptr, base != nullptr};
+  PetscCall(core::get(opt::energy, &name, &set, at));
+  if (!name.empty()) {
     const auto kind = energies::energyFromName(name);
     if (!kind)
       SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: unknown energy '%s' (known: %s)",
               optionName(prefix, "-energy").c_str(), name.c_str(), energies::energyNames().c_str());
     m.kind = *kind;
-  } else if (!base && cloth) {
-    m.kind = EnergyKind::Bw46;  // the isotropic cloth default
   }
   const char *ename = energies::energyName(m.kind);
   if (!energies::energySupportsShape(m.kind, shape)) {
@@ -205,9 +200,9 @@ PetscErrorCode readMaterialOptions(const char *prefix, ElementShape shape, const
   PetscCall(materialUsesFibers(m.kind, &usesFibers));
   if (usesFibers || basisEnergy) {
     PetscBool setA = PETSC_FALSE, setB = PETSC_FALSE;
-    PetscCall(readDirection(prefix, "-fiber", shape, &c.a, &setA));
+    PetscCall(readDirection(opt::fiber, at, shape, &c.a, &setA));
     c.fiberGiven = c.fiberGiven || setA;
-    if (cloth || basisEnergy) PetscCall(readDirection(prefix, "-fiber2", shape, &c.b, &setB));
+    if (cloth || basisEnergy) PetscCall(readDirection(opt::fiber2, at, shape, &c.b, &setB));
     if (basisEnergy) {
       Eigen::Vector3d b = c.b;
       if (!setB && std::abs(c.a.dot(b)) > 0.9) b = (shape == ElementShape::Tet) ? c.a.unitOrthogonal() : Eigen::Vector3d(-c.a[1], c.a[0], 0.0);
@@ -221,8 +216,8 @@ PetscErrorCode readMaterialOptions(const char *prefix, ElementShape shape, const
   }
 
   // Singularity mode.
-  std::string mode;
-  PetscCall(optionString(prefix, "-singularity", &mode, &set));
+  int mode = static_cast<int>(m.singularity.mode);
+  PetscCall(core::getChoice(opt::singularity, &mode, &set, at));
   if (!energies::energyContainsStretchInvariant(m.kind)) {
     if (set)
       SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
@@ -230,19 +225,13 @@ PetscErrorCode readMaterialOptions(const char *prefix, ElementShape shape, const
               "bw461, bw46s, shape_target, caricature do)",
               optionName(prefix, "-singularity").c_str(), ename);
   } else {
-    if (set) {
-      const auto sm = energies::singularityFromName(mode);
-      if (!sm)
-        SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: unknown mode '%s' (known: none|mollifier|barrier)",
-                optionName(prefix, "-singularity").c_str(), mode.c_str());
-      m.singularity.mode = *sm;
-    }
+    m.singularity.mode = *energies::singularityFromName(core::choices(opt::singularity)[mode]);
     if (m.singularity.mode == energies::SingularityMode::Mollifier) {
-      PetscCall(optionReal(prefix, "-mollifier_eps", &m.singularity.mollifier.eps, nullptr));
-      PetscCall(optionReal(prefix, "-mollifier_proxy", &m.singularity.mollifier.proxy, nullptr));
+      PetscCall(core::get(opt::mollifierEps, &m.singularity.mollifier.eps, nullptr, at));
+      PetscCall(core::get(opt::mollifierProxy, &m.singularity.mollifier.proxy, nullptr, at));
     } else if (m.singularity.mode == energies::SingularityMode::Barrier) {
-      PetscCall(optionReal(prefix, "-barrier_eps", &m.singularity.barrier.eps, nullptr));
-      PetscCall(optionReal(prefix, "-barrier_stiffness", &m.singularity.barrierStiffness, nullptr));
+      PetscCall(core::get(opt::barrierEps, &m.singularity.barrier.eps, nullptr, at));
+      PetscCall(core::get(opt::barrierStiffness, &m.singularity.barrierStiffness, nullptr, at));
     }
   }
 

@@ -2,6 +2,7 @@
 
 #include "fem/gmsh_check.hpp"
 #include "core/options.hpp"
+#include "fem/fem_options.hpp"
 
 #include <metis.h>
 #include <petscsf.h>
@@ -17,8 +18,6 @@ static_assert(sizeof(idx_t) == sizeof(PetscInt), "Debian METIS idx_t must match 
 
 namespace aries::fem {
 
-using core::optionString;
-using core::optionBool;
 using core::parseReal;
 using core::sharedLeafPoints;
 
@@ -122,7 +121,7 @@ PetscErrorCode classifyShape(const GmshFacts &facts, Mesh *mesh) {
             mesh->filename.c_str(), facts.zRange);
   }
   PetscBool uvMap = PETSC_FALSE;
-  PetscCall(optionBool(nullptr, "-uv_map", &uvMap, nullptr));
+  PetscCall(core::get(opt::uvMap, &uvMap));
   if (uvMap && !(mesh->topoDim == 2 && mesh->spaceDim == 3))
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
             "option -uv_map needs a triangle surface in 3D (mesh '%s' has %d-dimensional cells in %d-dimensional "
@@ -225,13 +224,11 @@ PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh) {
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_size(comm, &size));
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  PetscCall(optionString(nullptr, "-dm_plex_filename", &mesh->filename, &set));
+  PetscCall(core::get(opt::meshFile, &mesh->filename, &set));
   if (!set) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "no mesh: give -dm_plex_filename FILE.msh (gmsh format)");
-  std::string partitioner = "metis";
-  PetscCall(optionString(nullptr, "-partitioner", &partitioner, nullptr));
-  if (partitioner != "metis" && partitioner != "ptscotch")
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -partitioner: '%s' is not metis|ptscotch",
-            partitioner.c_str());
+  int partitionerChoice = 0;
+  PetscCall(core::getChoice(opt::partitioner, &partitionerChoice));
+  const std::string partitioner = core::choices(opt::partitioner)[partitionerChoice];
   GmshFacts facts;
   PetscCall(validateGmshFile(comm, mesh->filename, &facts));
   PetscCall(readPhysicalNames(comm, mesh->filename, &mesh->physicalNames));

@@ -2,6 +2,7 @@
 
 #include "core/errors.hpp"
 #include "core/options.hpp"
+#include "io/io_options.hpp"
 #include "io/files.hpp"
 #include "io/h5_attributes.hpp"
 
@@ -45,14 +46,12 @@ bool readMatrix(hid_t f, const char *name, hsize_t rows, std::vector<double> *v)
 PetscErrorCode readCheckpointOptions(const std::string &outputBase, CheckpointOptions *o) {
   PetscBool set = PETSC_FALSE;
   PetscFunctionBeginUser;
-  PetscCall(core::optionInt(nullptr, "-checkpoint_every", &o->every, &set));
-  if (set && o->every < 0)
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -checkpoint_every must be >= 0 (got %d)", (int)o->every);
+  PetscCall(core::get(opt::checkpointEvery, &o->every, &set));
   if (o->every > 0) {
     o->path = outputBase.empty() ? std::string("checkpoint.h5") : outputBase + ".checkpoint.h5";
-    PetscCall(core::optionString(nullptr, "-checkpoint", &o->path, nullptr));
+    PetscCall(core::get(opt::checkpoint, &o->path));
   }
-  PetscCall(core::optionString(nullptr, "-restart", &o->restart, nullptr));
+  PetscCall(core::get(opt::restart, &o->restart));
   PetscFunctionReturn(0);
 }
 

@@ -2,6 +2,7 @@
 
 #include "core/errors.hpp"
 #include "core/options.hpp"
+#include "io/io_options.hpp"
 #include "io/files.hpp"
 
 #include <algorithm>
@@ -11,25 +12,30 @@ namespace aries::io {
 const std::vector<OutputField> &outputFields() {
   using S = FieldSource;
   static const std::vector<OutputField> fields = {
-      {"alpha", S::CellQuantities, 1},
-      {"energy_density", S::CellQuantities, 1},
-      {"fiber", S::Fibers, 3},
-      {"J", S::StressMeasures, 1},
-      {"von_mises", S::StressMeasures, 1},
-      {"cauchy_stress", S::StressMeasures, 9},
-      {"pk1_stress", S::StressMeasures, 9},
-      {"green_strain", S::StressMeasures, 9},
-      {"principal_stretches", S::StressMeasures, 3},
-      {"deformation_gradient", S::StressMeasures, 9},
-      {"region", S::Regions, 1},
-      {"velocity", S::Velocity, 3},
-      {"reaction", S::Reactions, 3},
-      {"marker", S::Markers, 1},
+      {"alpha", S::CellQuantities, 1, "the singularity measure alpha (rest: 64 for tets, 2 for triangles; 0: inverted "
+                                      "or degenerate)"},
+      {"energy_density", S::CellQuantities, 1, "Psi(F), energy per unit rest measure"},
+      {"fiber", S::Fibers, 3, "rest fiber direction a (0 without fibers)"},
+      {"J", S::StressMeasures, 1, "det F (signed; < 0 = inverted); for cloth the area ratio sqrt(det F^T F)"},
+      {"von_mises", S::StressMeasures, 1, "sqrt(3/2 s:s) of the Cauchy stress's deviator s"},
+      {"cauchy_stress", S::StressMeasures, 9, "sigma = P F^T / J (NaN where J = 0)"},
+      {"pk1_stress", S::StressMeasures, 9, "first Piola-Kirchhoff stress P = dPsi/dF (rest frame columns)"},
+      {"green_strain", S::StressMeasures, 9, "Green-Lagrange strain (F^T F - I) / 2 (triangles: the in-plane part, in 3D)"},
+      {"principal_stretches", S::StressMeasures, 3,
+       "singular values of F, largest first; the smallest is negative in an inverted tet (signed singular values); "
+       "triangles write 1 as the third"},
+      {"deformation_gradient", S::StressMeasures, 9, "F from the rest shape to the current shape (rows beyond the space "
+                                                     "dimension 0)"},
+      {"region", S::Regions, 1, "0 = the global material, k = the k-th -regions entry"},
+      {"velocity", S::Velocity, 3, "backward Euler velocity of the free vertices (0 on Dirichlet vertices)"},
+      {"reaction", S::Reactions, 3, "on Dirichlet vertices dE/dx, the force the support exerts (its sum over a set = the "
+                                    "-reactions row); 0 on free vertices"},
+      {"marker", S::Markers, 1, "k for a vertex of the k-th Dirichlet set (-bc_clamp ids in order, then -bc_box "
+                                "boxes), 0 if free"},
   };
   return fields;
 }
 
-const char *const kDefaultOutputFields = "alpha,energy_density,fiber,J,von_mises";
 
 namespace {
 
@@ -56,13 +62,11 @@ std::vector<std::string> splitCommas(const std::string &s) {
 PetscErrorCode readOutputOptions(bool dynamic, OutputOptions *o) {
   PetscBool set = PETSC_FALSE;
   PetscFunctionBeginUser;
-  PetscCall(core::optionString(nullptr, "-output", &o->output, &set));
+  PetscCall(core::get(opt::output, &o->output, &set));
   if (set) {
-    PetscCall(core::optionInt(nullptr, "-output_every", &o->outputEvery, nullptr));
-    if (o->outputEvery < 1)
-      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -output_every must be >= 1 (got %d)", (int)o->outputEvery);
-    std::string list = kDefaultOutputFields;
-    PetscCall(core::optionString(nullptr, "-output_fields", &list, nullptr));
+    PetscCall(core::get(opt::outputEvery, &o->outputEvery));
+    std::string list;
+    PetscCall(core::get(opt::outputFields, &list));
     o->fields.clear();
     for (const std::string &name : list == "all" ? std::vector<std::string>{} : splitCommas(list)) {
       const OutputField *f = nullptr;
@@ -82,9 +86,9 @@ PetscErrorCode readOutputOptions(bool dynamic, OutputOptions *o) {
       for (const auto &g : outputFields())
         if (dynamic || g.source != FieldSource::Velocity) o->fields.push_back(g.name);
   }
-  PetscCall(core::optionString(nullptr, "-stats", &o->stats, nullptr));
-  PetscCall(core::optionString(nullptr, "-reactions", &o->reactions, nullptr));
-  PetscCall(core::optionString(nullptr, "-newton_history", &o->newtonHistory, nullptr));
+  PetscCall(core::get(opt::stats, &o->stats));
+  PetscCall(core::get(opt::reactions, &o->reactions));
+  PetscCall(core::get(opt::newtonHistory, &o->newtonHistory));
   PetscFunctionReturn(0);
 }
 

@@ -19,10 +19,10 @@ struct OutputField {
   const char *name;
   FieldSource source;
   int components;  // 1 scalar, 3 vector, 9 tensor (row-major 3x3)
+  const char *help;
   bool perCell() const { return source < FieldSource::Velocity; }  // else per vertex
 };
 const std::vector<OutputField> &outputFields();
-extern const char *const kDefaultOutputFields;
 
 struct OutputOptions {
   std::string output;      // DIR/NAME

@@ -2,14 +2,13 @@
 
 #include "fem/cell_files.hpp"
 #include "core/options.hpp"
+#include "fem/fem_options.hpp"
 
 #include <algorithm>
 #include <cmath>
 
 namespace aries::fem {
 
-using core::optionString;
-using core::optionRealList;
 
 PetscErrorCode TargetField::read(const Mesh &mesh, int dim, bool uniformTargetGiven) {
   MPI_Comm comm;
@@ -20,8 +19,8 @@ PetscErrorCode TargetField::read(const Mesh &mesh, int dim, bool uniformTargetGi
   PetscCall(PetscObjectGetComm((PetscObject)mesh.dm, &comm));
   dim_ = dim;
   comps_ = dim == 3 ? 6 : 3;
-  PetscCall(optionRealList(nullptr, "-activation", &act, &hasAct));
-  PetscCall(optionString(nullptr, "-target_file", &file, &hasFile));
+  PetscCall(core::get(fem::opt::activation, &act, &hasAct));
+  PetscCall(core::get(fem::opt::targetFile, &file, &hasFile));
   if (hasAct && hasFile)
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "options -activation and -target_file both give the shape targets; use one");
   if ((hasAct || hasFile) && uniformTargetGiven)

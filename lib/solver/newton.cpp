@@ -1,6 +1,7 @@
 #include "solver/newton.hpp"
 
 #include "core/options.hpp"
+#include "solver/solver_options.hpp"
 
 #include <string>
 
@@ -76,13 +77,10 @@ NewtonSolver::~NewtonSolver() {
 // Rigid-body modes of the rest configuration as the Jacobian's near-nullspace (-near_nullspace rigid, the default):
 // algebraic multigrid (-pc_type gamg) builds its coarse spaces from them; other preconditioners ignore them.
 PetscErrorCode NewtonSolver::attachNearNullSpace() {
-  std::string mode = "rigid";
-  PetscBool set;
+  int mode = 0;  // rigid|none
   PetscFunctionBeginUser;
-  PetscCall(core::optionString(nullptr, "-near_nullspace", &mode, &set));
-  if (mode == "none") PetscFunctionReturn(0);
-  if (mode != "rigid")
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -near_nullspace: '%s' is not rigid|none", mode.c_str());
+  PetscCall(core::getChoice(opt::nearNullspace, &mode));
+  if (mode == 1) PetscFunctionReturn(0);
   MatNullSpace nsp;
   PetscCall(disc_->restPositions(work_));
   PetscCall(rigidBodyModes(work_, disc_->dofsPerVertex(), &nsp));
@@ -149,60 +147,27 @@ kernels::EigenFilter NewtonSolver::initialFilter() const {
 // the Newton step, after full steps only, without it (a static solve from a scramble can otherwise jump into another
 // basin, e.g. a folded body).
 PetscErrorCode NewtonSolver::readOptions(bool dynamic) {
-  PetscBool set;
+  const core::ReadContext at{nullptr, dynamic ? "beuler" : "static"};
   PetscFunctionBeginUser;
-  newtonTol_ = dynamic ? 1e-2 : 1e-4;
-  PetscCall(core::optionReal(nullptr, "-newton_tol", &newtonTol_, &set));
-  if (!(newtonTol_ > 0.0))
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -newton_tol must be > 0 (got %g)", newtonTol_);
-  PetscCall(core::optionReal(nullptr, "-alpha_min", &alphaMin_, &set));
-  if (!(alphaMin_ >= 0.0))
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -alpha_min must be >= 0 (got %g)", alphaMin_);
-  filterMode_ = dynamic ? EigenFilterMode::Clamp : EigenFilterMode::Abs;
-  std::string filter = filterModeName(filterMode_);
-  PetscCall(core::optionString(nullptr, "-psd_projection", &filter, &set));
-  if (filter == "clamp") filterMode_ = EigenFilterMode::Clamp;
-  else if (filter == "abs") filterMode_ = EigenFilterMode::Abs;
-  else if (filter == "adaptive") filterMode_ = EigenFilterMode::Adaptive;
-  else if (filter == "none") filterMode_ = EigenFilterMode::None;
-  else
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -psd_projection: '%s' is not clamp|abs|adaptive|none",
-            filter.c_str());
-  std::string eigensystem = "analytic";
-  PetscCall(core::optionString(nullptr, "-psd_eigensystem", &eigensystem, &set));
-  if (eigensystem != "analytic" && eigensystem != "numeric")
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -psd_eigensystem: '%s' is not analytic|numeric",
-            eigensystem.c_str());
-  analyticEigensystem_ = eigensystem == "analytic";
-  if (filterMode_ == EigenFilterMode::Adaptive) {
-    PetscCall(core::optionReal(nullptr, "-psd_adaptive_tol", &adaptiveTol_, &set));
-    if (!(adaptiveTol_ > 0.0))
-      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -psd_adaptive_tol must be > 0 (got %g)", adaptiveTol_);
-  }
-  PetscCall(core::optionInt(nullptr, "-newton_subspace", &subspace_, &set));
-  if (subspace_ < 0 || subspace_ > 7)
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -newton_subspace must be in 0..7 (got %d)", (int)subspace_);
+  PetscCall(core::get(opt::newtonTol, &newtonTol_, nullptr, at));
+  PetscCall(core::get(opt::alphaMin, &alphaMin_));
+  PetscCall(core::getChoice(opt::psdProjection, &filterMode_, nullptr, at));
+  int eigensystem = 0;  // analytic|numeric
+  PetscCall(core::getChoice(opt::psdEigensystem, &eigensystem));
+  analyticEigensystem_ = eigensystem == 0;
+  if (filterMode_ == EigenFilterMode::Adaptive) PetscCall(core::get(opt::psdAdaptiveTol, &adaptiveTol_));
+  PetscCall(core::get(opt::newtonSubspace, &subspace_));
   if (subspace_ > 0) {
-    subspaceMax_ = dynamic ? 0.0 : 2.0;
-    PetscCall(core::optionReal(nullptr, "-newton_subspace_max", &subspaceMax_, &set));
-    if (!(subspaceMax_ == 0.0 || subspaceMax_ >= 1.0))
+    PetscCall(core::get(opt::newtonSubspaceMax, &subspaceMax_, nullptr, at));
+    if (subspaceMax_ > 0.0 && subspaceMax_ < 1.0)
       SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -newton_subspace_max must be 0 (no limit) or >= 1 (got %g)",
               subspaceMax_);
   }
-  rotation_ = dynamic ? -1 : 3;
-  PetscCall(core::optionInt(nullptr, "-newton_rotation", &rotation_, &set));
-  if (rotation_ < -1 || rotation_ > 6)
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -newton_rotation must be in -1..6 (got %d)", (int)rotation_);
-  PetscCall(core::optionReal(nullptr, "-newton_forcing", &forcing_, &set));
-  if (!(forcing_ >= 0.0 && forcing_ < 1.0))
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -newton_forcing must be in [0, 1) (got %g)", forcing_);
-  if (dynamic) {
-    PetscBool guess = PETSC_TRUE;
-    PetscCall(core::optionBool(nullptr, "-newton_inertia_guess", &guess, &set));
-    useInertiaGuess_ = guess;
-  } else {
-    useInertiaGuess_ = false;
-  }
+  PetscCall(core::get(opt::newtonRotation, &rotation_, nullptr, at));
+  PetscCall(core::get(opt::newtonForcing, &forcing_));
+  PetscBool guess = PETSC_FALSE;
+  if (dynamic) PetscCall(core::get(opt::newtonInertiaGuess, &guess));
+  useInertiaGuess_ = guess;
   PetscFunctionReturn(0);
 }
 

@@ -1,6 +1,7 @@
 #include "solver/simulation.hpp"
 
 #include "core/options.hpp"
+#include "solver/solver_options.hpp"
 #include "preprocess/tutte.hpp"
 
 #include <cmath>
@@ -25,65 +26,30 @@ double uniform01(uint64_t seed, uint64_t vertex, uint64_t component) {
 }  // namespace
 
 PetscErrorCode readSimulationOptions(SimulationOptions *o) {
-  std::string s;
   PetscBool set;
   PetscFunctionBeginUser;
-  PetscCall(core::optionString(nullptr, "-integrator", &s, &set));
-  if (set) {
-    if (s == "static") o->integrator = Integrator::Static;
-    else if (s == "beuler") o->integrator = Integrator::BackwardEuler;
-    else SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -integrator: '%s' is not static|beuler", s.c_str());
-  }
-  PetscCall(core::optionReal(nullptr, "-dt", &o->dt, &set));
-  if (!(o->dt > 0.0)) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -dt must be > 0 (got %g)", o->dt);
-  PetscCall(core::optionInt(nullptr, "-steps", &o->steps, &set));
-  if (o->steps < 1) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -steps must be >= 1 (got %d)", (int)o->steps);
-  PetscCall(core::optionString(nullptr, "-initial", &s, &set));
-  if (set) {
-    if (s == "rest") o->initial = InitialState::Rest;
-    else if (s == "scramble") o->initial = InitialState::Scramble;
-    else if (s == "invert") o->initial = InitialState::Invert;
-    else if (s == "tutte") o->initial = InitialState::Tutte;
-    else if (s == "collapse_plane") o->initial = InitialState::CollapsePlane;
-    else if (s == "collapse_line") o->initial = InitialState::CollapseLine;
-    else if (s == "collapse_point") o->initial = InitialState::CollapsePoint;
-    else
-      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
-              "option -initial: '%s' is not rest|scramble|invert|tutte|collapse_plane|collapse_line|collapse_point",
-              s.c_str());
-  }
+  PetscCall(core::getChoice(opt::integrator, &o->integrator));
+  PetscCall(core::get(opt::dt, &o->dt));
+  PetscCall(core::get(opt::steps, &o->steps));
+  PetscCall(core::getChoice(opt::initial, &o->initial));
   if (o->initial == InitialState::Scramble) {
-    PetscCall(core::optionReal(nullptr, "-scramble_volume_ratio", &o->scrambleVolumeRatio, &set));
-    if (!(o->scrambleVolumeRatio > 0.0))
-      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -scramble_volume_ratio must be > 0 (got %g)",
-              o->scrambleVolumeRatio);
-    PetscCall(core::optionInt(nullptr, "-scramble_seed", &o->scrambleSeed, &set));
+    PetscCall(core::get(opt::scrambleVolumeRatio, &o->scrambleVolumeRatio));
+    PetscCall(core::get(opt::scrambleSeed, &o->scrambleSeed));
   }
   if (o->integrator == Integrator::Static) {  // applies to synthetic starts only (not rest, tutte or a restart)
-    PetscBool detached = PETSC_TRUE;
-    PetscCall(core::optionBool(nullptr, "-static_detached_start", &detached, &set));
+    PetscBool detached = PETSC_TRUE, shapeFirst = PETSC_TRUE;
+    PetscCall(core::get(opt::detachedStart, &detached, &set));
     o->detachedStart = detached && o->initial != InitialState::Rest && o->initial != InitialState::Tutte;
-    PetscBool shapeFirst = PETSC_TRUE;
-    PetscCall(core::optionBool(nullptr, "-static_detached_shape_first", &shapeFirst, &set));
+    PetscCall(core::get(opt::detachedShapeFirst, &shapeFirst, &set));
     o->detachedShapeFirst = shapeFirst;
   }
   if (o->integrator == Integrator::BackwardEuler) {
     PetscBool ps = PETSC_TRUE;
-    PetscCall(core::optionBool(nullptr, "-predictor_start", &ps, &set));
+    PetscCall(core::get(opt::predictorStart, &ps));
     o->predictorStart = ps;
   }
-  PetscCall(core::optionString(nullptr, "-on_failure", &s, &set));
-  if (set) {
-    if (s == "stop") o->onFailure = FailurePolicy::Stop;
-    else if (s == "halve_dt") o->onFailure = FailurePolicy::HalveDt;
-    else if (s == "continue") o->onFailure = FailurePolicy::Continue;
-    else SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -on_failure: '%s' is not stop|halve_dt|continue", s.c_str());
-  }
-  if (o->onFailure == FailurePolicy::HalveDt) {
-    PetscCall(core::optionInt(nullptr, "-max_step_halvings", &o->maxStepHalvings, &set));
-    if (o->maxStepHalvings < 1 || o->maxStepHalvings > 30)
-      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -max_step_halvings must be in 1..30");
-  }
+  PetscCall(core::getChoice(opt::onFailure, &o->onFailure));
+  if (o->onFailure == FailurePolicy::HalveDt) PetscCall(core::get(opt::maxStepHalvings, &o->maxStepHalvings));
   PetscFunctionReturn(0);
 }
 

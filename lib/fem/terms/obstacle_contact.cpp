@@ -2,13 +2,12 @@
 
 #include "core/errors.hpp"
 #include "core/options.hpp"
+#include "fem/fem_options.hpp"
 
 #include <sstream>
 
 namespace aries::fem {
 
-using core::optionReal;
-using core::optionRealList;
 using core::collectiveCheck;
 
 PetscErrorCode ObstacleContact::read(const Mesh &mesh, double defaultStiffness) {
@@ -17,8 +16,8 @@ PetscErrorCode ObstacleContact::read(const Mesh &mesh, double defaultStiffness) 
   MPI_Comm comm;
   PetscFunctionBeginUser;
   PetscCall(PetscObjectGetComm((PetscObject)mesh.dm, &comm));
-  PetscCall(optionRealList(nullptr, "-obstacle_plane", &planes, &hasP));
-  PetscCall(optionRealList(nullptr, "-obstacle_sphere", &spheres, &hasS));
+  PetscCall(core::get(opt::obstaclePlanes, &planes, &hasP));
+  PetscCall(core::get(opt::obstacleSpheres, &spheres, &hasS));
   if (hasP && (planes.empty() || planes.size() % 6))
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
             "option -obstacle_plane takes px,py,pz,nx,ny,nz (a point and the normal towards the free side; 6 "
@@ -47,13 +46,9 @@ PetscErrorCode ObstacleContact::read(const Mesh &mesh, double defaultStiffness) 
   }
   if (obstacles_.empty()) PetscFunctionReturn(0);
   dhat_ = 1e-2 * mesh.diagonal;
-  PetscCall(optionReal(nullptr, "-contact_dhat", &dhat_, &set));
-  if (!(dhat_ > 0.0))
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -contact_dhat must be > 0 (got %g)", dhat_);
+  PetscCall(core::get(opt::contactDhat, &dhat_, &set));
   kappa_ = defaultStiffness;
-  PetscCall(optionReal(nullptr, "-contact_stiffness", &kappa_, &set));
-  if (!(kappa_ > 0.0))
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -contact_stiffness must be > 0 (got %g)", kappa_);
+  PetscCall(core::get(opt::contactStiffness, &kappa_, &set));
   // The rest shape must be outside every obstacle.
   std::string msg;
   for (size_t v = 0; v < verts_.size() && msg.empty(); ++v)

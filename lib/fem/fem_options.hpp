@@ -1,0 +1,192 @@
+// The options of the discretization layer (mesh, material, boundary conditions, body forces, cloth terms), declared
+// once (core/option_decl.hpp): the readers in lib/fem and lib/preprocess, `aries -help` and docs/options.md use
+// these. An energy's own parameters (-gamma, -beta, ...) are declared by its descriptor (energies/catalog/).
+#pragma once
+
+#include "core/option_decl.hpp"
+
+namespace aries::fem::opt {
+
+using core::choiceOption;
+using core::flagOption;
+using core::intOption;
+using core::OptionDecl;
+using core::realOption;
+using core::realsOption;
+using core::textOption;
+using core::wordsOption;
+
+// ---- mesh and parallel layout ----
+inline constexpr OptionDecl meshFile =
+    textOption("-dm_plex_filename", "FILE",
+               "gmsh mesh (MSH 2.2 or 4, ASCII or binary): tetrahedra, or triangles (planar; cloth in 3D with "
+               "-dm_plex_gmsh_spacedim 3). Scene meshes: meshes/generate.sh NAME [SIZE]")
+        .otherwise("(required)");
+inline constexpr OptionDecl partitioner =
+    choiceOption("-partitioner", "metis|ptscotch",
+                 "METIS k-way on rank 0 (through PETSc's shell partitioner) or PT-Scotch")
+        .byDefault("metis");
+inline constexpr OptionDecl gmshSpaceDim =
+    intOption("-dm_plex_gmsh_spacedim", "D",
+              "PETSc's: 3 keeps z for triangle meshes (cloth, -uv_map); read in 2D, a triangle surface whose z is not "
+              "constant is an error unless 2 is given on purpose")
+        .otherwise("2 for triangle meshes")
+        .atLeast(2)
+        .atMost(3);
+inline constexpr OptionDecl uvMap =
+    flagOption("-uv_map",
+               "UV parameterization of a disk-topology triangle surface in 3D: 2D unknowns, each triangle's rest "
+               "shape is its 3D triangle; output positions are the UV map with z = 0")
+        .byDefault("false");
+
+inline constexpr const OptionDecl *kMeshOptions[] = {&meshFile, &partitioner, &gmshSpaceDim, &uvMap};
+
+// ---- material ----
+inline constexpr OptionDecl energy =
+    textOption("-energy", "NAME", "the energy density (table below); per region with -region_<id>_energy")
+        .byDefault("bw46", "cloth", "iarap", nullptr);
+inline constexpr OptionDecl youngsModulus =
+    realOption("-E", "X", "Young's modulus; with -nu gives the Lame parameters mu, lambda").byDefault("1e4").above(0);
+inline constexpr OptionDecl poissonRatio =
+    realOption("-nu", "X", "Poisson's ratio").byDefault("0.3").atLeast(0).below(0.5);
+inline constexpr OptionDecl lameMu =
+    realOption("-mu", "X", "Lame mu directly (not with -E/-nu); -mu alone sets lambda = 0")
+        .otherwise("from -E, -nu")
+        .atLeast(0);
+inline constexpr OptionDecl lameLambda =
+    realOption("-lambda", "X", "Lame lambda directly (not with -E/-nu)").otherwise("from -E, -nu").atLeast(0);
+inline constexpr OptionDecl clothStretch =
+    realOption("-mu1", "X", "cloth stretch stiffness").byDefault("20");
+inline constexpr OptionDecl clothShear =
+    realOption("-mu2", "X", "cloth shear stiffness (energies with a shear term; bw46 has none)").byDefault("20");
+inline constexpr OptionDecl fiber =
+    realsOption("-fiber", "x,y,z",
+                "fiber a in the material frame (2 numbers for planar and cloth elements); the basis u1 of ortho and "
+                "kim_aa")
+        .byDefault("1,0,0")
+        .entries(3, 2);
+inline constexpr OptionDecl fiber2 =
+    realsOption("-fiber2", "x,y,z",
+                "second fiber b (cloth) or second basis direction (ortho, kim_aa; orthogonalized against -fiber)")
+        .byDefault("0,1,0")
+        .entries(3, 2);
+inline constexpr OptionDecl fiberFile =
+    textOption("-fiber_file", "FILE", "per-cell fibers (format below); overrides -fiber").otherwise("none");
+inline constexpr OptionDecl fiber2File =
+    textOption("-fiber2_file", "FILE", "per-cell second fibers (cloth)").otherwise("none");
+inline constexpr OptionDecl regions =
+    wordsOption("-regions", "id,...",
+                "gmsh volume groups (ids or names) with their own material: any material option per region as "
+                "-region_<id>_<option>, starting from the global material")
+        .otherwise("none");
+inline constexpr OptionDecl activation =
+    realsOption("-activation", "l1[,l2]",
+                "shape_target: per-cell muscle-like target S_t = l1 a a^T + l2 (I - a a^T) along each cell's fiber, "
+                "reached by the load ramp; l2 defaults to 1")
+        .otherwise("none")
+        .atLeast(0);
+inline constexpr OptionDecl targetFile =
+    textOption("-target_file", "FILE",
+               "shape_target: per-cell keyframed targets, linear in time (format below); not with -target or "
+               "-activation")
+        .otherwise("none");
+
+inline constexpr const OptionDecl *kMaterialOptions[] = {&energy, &youngsModulus, &poissonRatio, &lameMu,
+                                                         &lameLambda, &clothStretch, &clothShear, &fiber,
+                                                         &fiber2, &fiberFile, &fiber2File, &regions,
+                                                         &activation, &targetFile};
+
+// ---- singularity treatment (energies with I4/I6 terms) ----
+inline constexpr OptionDecl singularity =
+    choiceOption("-singularity", "none|mollifier|barrier",
+                 "none: the raw closed-form I4/I6 (singular where alpha -> 0); mollifier: Eq. 33; barrier: Eq. 34 "
+                 "added once per element")
+        .byDefault("mollifier");
+inline constexpr OptionDecl mollifierEps =
+    realOption("-mollifier_eps", "X", "alpha threshold eps of Eq. 33 (blend on [eps, 3 eps])").byDefault("1e-3").above(0);
+inline constexpr OptionDecl mollifierProxy =
+    realOption("-mollifier_proxy", "X", "the constant proxy g = c of Eq. 33 (scaled by tr D for a fiber tensor D)")
+        .byDefault("0");
+inline constexpr OptionDecl barrierEps =
+    realOption("-barrier_eps", "X", "eps of the aberration barrier (Eq. 34)").byDefault("1e-2").above(0);
+inline constexpr OptionDecl barrierStiffness =
+    realOption("-barrier_stiffness", "X", "kappa in kappa b(alpha)").otherwise("the energy's modulus (mu, mu1)").above(0);
+
+inline constexpr const OptionDecl *kSingularityOptions[] = {&singularity, &mollifierEps, &mollifierProxy,
+                                                            &barrierEps, &barrierStiffness};
+
+// ---- boundary conditions ----
+inline constexpr OptionDecl clamp =
+    wordsOption("-bc_clamp", "id,...",
+                "gmsh physical groups (numbers, or names from $PhysicalNames) whose vertices are prescribed")
+        .otherwise("none");
+inline constexpr OptionDecl clampTranslate =
+    realsOption("-translate", "x,y,z", "total translation of the set, ramped linearly with the load parameter")
+        .inFamily("-bc_clamp_<id>_")
+        .byDefault("0,0,0")
+        .entries(3);
+inline constexpr OptionDecl clampRotate =
+    realOption("-rotate", "deg", "total rotation angle of the set (degrees), ramped like the translation")
+        .inFamily("-bc_clamp_<id>_")
+        .byDefault("0");
+inline constexpr OptionDecl clampAxis =
+    realsOption("-axis", "x,y,z", "the rotation's axis (with -bc_clamp_<id>_rotate)")
+        .inFamily("-bc_clamp_<id>_")
+        .byDefault("0,0,1")
+        .entries(3);
+inline constexpr OptionDecl clampCenter =
+    realsOption("-center", "x,y,z", "a point on the rotation's axis (with -bc_clamp_<id>_rotate)")
+        .inFamily("-bc_clamp_<id>_")
+        .otherwise("rest centroid of the set")
+        .entries(3);
+inline constexpr OptionDecl boxes =
+    realsOption("-bc_box", "xmin,xmax,ymin,ymax,zmin,zmax[,...]",
+                "vertices inside box k (1-based, in the order given) are pinned at rest, or move by "
+                "-bc_box_<k>_translate, _rotate, _axis, _center like a clamp set")
+        .otherwise("none");
+inline constexpr OptionDecl rampSteps =
+    intOption("-bc_ramp_steps", "K", "load parameter s = min(1, step / K): the motion reaches its total after K steps")
+        .otherwise("-steps")
+        .atLeast(1);
+
+inline constexpr const OptionDecl *kBoundaryOptions[] = {&clamp,       &clampTranslate, &clampRotate, &clampAxis,
+                                                         &clampCenter, &boxes,          &rampSteps};
+
+// ---- body forces ----
+inline constexpr OptionDecl density =
+    realOption("-density", "X", "mass density (backward Euler's inertia, gravity)").byDefault("1000").above(0);
+inline constexpr OptionDecl gravity =
+    realsOption("-gravity", "gx,gy,gz", "gravitational acceleration (gx,gy on a 2D mesh)").byDefault("0,0,0").entries(3, 2);
+
+inline constexpr const OptionDecl *kBodyForceOptions[] = {&density, &gravity};
+
+// ---- cloth: bending and contact; planar orientation ----
+inline constexpr OptionDecl bending =
+    realOption("-bending", "k",
+               "isometric quadratic bending (Bergou et al. 2006) on every interior edge of a flat-at-rest cloth")
+        .byDefault("0")
+        .atLeast(0);
+inline constexpr OptionDecl obstaclePlanes =
+    realsOption("-obstacle_plane", "px,py,pz,nx,ny,nz[,...]",
+                "static planes: a point and the normal towards the free side, 6 numbers per plane")
+        .otherwise("none");
+inline constexpr OptionDecl obstacleSpheres =
+    realsOption("-obstacle_sphere", "cx,cy,cz,r[,...]", "static spheres, 4 numbers per sphere").otherwise("none");
+inline constexpr OptionDecl contactDhat =
+    realOption("-contact_dhat", "d",
+               "barrier activation distance: kappa b(d), b = -(d - dhat)^2 ln(d / dhat) for d < dhat (IPC style)")
+        .otherwise("1e-2 x rest bounding-box diagonal")
+        .above(0);
+inline constexpr OptionDecl contactStiffness =
+    realOption("-contact_stiffness", "kappa", "the barrier's stiffness (force / length)")
+        .otherwise("mean vertex mass / dt^2 (beuler); modulus x h^(dim-2) (static)")
+        .above(0);
+inline constexpr OptionDecl keepOrientation =
+    flagOption("-keep_orientation",
+               "planar elements: the alpha safeguard also keeps det F > 0 in every element (no flipped triangle)")
+        .byDefault("true", "uv_map", "false", nullptr);
+
+inline constexpr const OptionDecl *kClothOptions[] = {&bending,     &obstaclePlanes,   &obstacleSpheres,
+                                                      &contactDhat, &contactStiffness, &keepOrientation};
+
+}  // namespace aries::fem::opt

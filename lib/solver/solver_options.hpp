@@ -1,0 +1,132 @@
+// The options of the solver layer (time stepping, initial states, Newton), declared once (core/option_decl.hpp).
+// Defaults that differ between static and backward-Euler runs are declared per integrator ("static", "beuler").
+// docs/options.md explains the Newton strategies in prose after the generated tables.
+#pragma once
+
+#include "core/option_decl.hpp"
+
+namespace aries::solver::opt {
+
+using core::choiceOption;
+using core::flagOption;
+using core::intOption;
+using core::OptionDecl;
+using core::realOption;
+
+// ---- time stepping and initial state ----
+inline constexpr OptionDecl integrator =
+    choiceOption("-integrator", "static|beuler",
+                 "quasistatic load stepping, or backward Euler (incremental potential, lumped mass)")
+        .byDefault("static");
+inline constexpr OptionDecl dt =
+    realOption("-dt", "X", "time step (beuler; also the time column of static runs)").byDefault("1e-2").above(0);
+inline constexpr OptionDecl steps = intOption("-steps", "N", "number of steps").byDefault("1").atLeast(1);
+inline constexpr OptionDecl initial =
+    choiceOption("-initial", "rest|scramble|invert|tutte|collapse_plane|collapse_line|collapse_point",
+                 "the state the first step starts from (see Initial states below); tutte with -uv_map only")
+        .byDefault("rest");
+inline constexpr OptionDecl scrambleVolumeRatio =
+    realOption("-scramble_volume_ratio", "X",
+               "scramble: every free vertex uniform in an axis-aligned cube of X times the rest volume (square and "
+               "area in 2D) centred at the rest centroid")
+        .byDefault("2")
+        .above(0);
+inline constexpr OptionDecl scrambleSeed =
+    intOption("-scramble_seed", "N", "seed of the scramble; the same state for any number of ranks").byDefault("1");
+inline constexpr OptionDecl detachedStart =
+    flagOption("-static_detached_start",
+               "static runs from scramble, invert or collapse starts: step 1 first relaxes the body without its "
+               "supports, fits it rigidly onto them, then solves with the supports (see The detached start below)")
+        .byDefault("true");
+inline constexpr OptionDecl detachedShapeFirst =
+    flagOption("-static_detached_shape_first",
+               "the detached relaxation first solves without the volume terms, then with the full energy; only where "
+               "the stretch terms alone fix every cell's shape (see The detached start below)")
+        .byDefault("true");
+inline constexpr OptionDecl predictorStart =
+    flagOption("-predictor_start",
+               "beuler: Newton starts from the prediction x_n + dt v_n when its total potential is lower and the "
+               "safeguard accepts it")
+        .byDefault("true");
+inline constexpr OptionDecl onFailure =
+    choiceOption("-on_failure", "stop|halve_dt|continue",
+                 "a step whose Newton solve fails: stop (exit code 3, last accepted state written), retry as two half "
+                 "steps, or keep the last finite iterate and go on")
+        .byDefault("stop");
+inline constexpr OptionDecl maxStepHalvings =
+    intOption("-max_step_halvings", "N", "recursion depth of -on_failure halve_dt").byDefault("6").atLeast(1).atMost(30);
+
+inline constexpr const OptionDecl *kSteppingOptions[] = {
+    &integrator, &dt, &steps, &initial, &scrambleVolumeRatio, &scrambleSeed, &detachedStart, &detachedShapeFirst,
+    &predictorStart, &onFailure, &maxStepHalvings};
+
+// ---- Newton ----
+inline constexpr OptionDecl newtonTol =
+    realOption("-newton_tol", "X",
+               "converged when the inf-norm of the Newton step is at most X L dt (beuler) or X L (static), L = rest "
+               "bounding-box diagonal (paper Sec. 6); see Convergence below")
+        .byDefault("1e-4", "static", "1e-2", "beuler")
+        .above(0);
+inline constexpr OptionDecl alphaMin =
+    realOption("-alpha_min", "X",
+               "alpha safeguard (paper Sec. 4.2): no accepted step takes a guarded element's alpha below X; the step "
+               "is halved until it holds (see The alpha safeguard below)")
+        .byDefault("1e-6")
+        .atLeast(0);
+inline constexpr OptionDecl psdProjection =
+    choiceOption("-psd_projection", "clamp|abs|adaptive|none",
+                 "eigenvalue filter of each element's F-space Hessian: clamp negatives to 0, flip them to |lambda| "
+                 "(Chen et al. 2024), choose per iteration by the model fit (adaptive), or none (reference)")
+        .byDefault("abs", "static", "clamp", "beuler");
+inline constexpr OptionDecl psdEigensystem =
+    choiceOption("-psd_eigensystem", "analytic|numeric",
+                 "analytic: an energy's closed-form eigensystem where it has one (iarap, iarap_lin on tets outside "
+                 "the singular band), the numeric eigensolve elsewhere; numeric: the eigensolve everywhere")
+        .byDefault("analytic");
+inline constexpr OptionDecl psdAdaptiveTol =
+    realOption("-psd_adaptive_tol", "X", "adaptive filter: |rho - 1| below X selects clamp, else abs")
+        .byDefault("0.01")
+        .above(0);
+inline constexpr OptionDecl newtonSubspace =
+    intOption("-newton_subspace", "M",
+              "subspace step: minimize the exact quadratic model over the Newton direction and the last M updates "
+              "of the step (0: plain projected Newton)")
+        .byDefault("1")
+        .atLeast(0)
+        .atMost(7);
+inline constexpr OptionDecl newtonSubspaceMax =
+    realOption("-newton_subspace_max", "X",
+               "0: no limit; X >= 1: the subspace step's coefficient of the Newton direction is at most X, after full "
+               "line-search steps only")
+        .byDefault("2", "static", "0", "beuler")
+        .atLeast(0);
+inline constexpr OptionDecl newtonRotation =
+    intOption("-newton_rotation", "K",
+              "rotational update: the rotational part of each vertex's step follows the circle, up to K doublings of "
+              "its angle while the energy falls; -1: off")
+        .byDefault("3", "static", "-1", "beuler")
+        .atLeast(-1)
+        .atMost(6);
+inline constexpr OptionDecl newtonForcing =
+    realOption("-newton_forcing", "eta",
+               "inexact Newton: a linear solve may stop at relative residual eta while its step is still above 2x the "
+               "tolerance; a certifying solve is always at -ksp_rtol (0: off)")
+        .byDefault("0")
+        .atLeast(0)
+        .below(1);
+inline constexpr OptionDecl newtonInertiaGuess =
+    flagOption("-newton_inertia_guess",
+               "beuler: the linear solve starts from the inertia-only step a M^-1 g (never worse than zero in the "
+               "H-norm; exact for a rigid translation)")
+        .byDefault("true");
+inline constexpr OptionDecl nearNullspace =
+    choiceOption("-near_nullspace", "rigid|none",
+                 "the rest shape's rigid-body modes attached to the Jacobian as its near-nullspace (used by -pc_type "
+                 "gamg; ignored by Jacobi and LU)")
+        .byDefault("rigid");
+
+inline constexpr const OptionDecl *kNewtonOptions[] = {
+    &newtonTol,      &alphaMin,          &psdProjection,  &psdEigensystem,     &psdAdaptiveTol, &newtonSubspace,
+    &newtonSubspaceMax, &newtonRotation, &newtonForcing,  &newtonInertiaGuess, &nearNullspace};
+
+}  // namespace aries::solver::opt
