@@ -416,6 +416,53 @@ def case_detached_start():
              "skipped (two solves in step 1), got %d" % len(blocks))
 
 
+def translated_mesh(msh, offset, name):
+    """A copy of an ASCII MSH 2.2 mesh with every node moved by `offset` (x, y, z) into the work directory."""
+    with open(msh) as fh:
+        lines = fh.read().split("\n")
+    i = lines.index("$Nodes")
+    for k in range(i + 2, i + 2 + int(lines[i + 1])):
+        p = lines[k].split()
+        lines[k] = " ".join([p[0]] + [repr(float(p[1 + j]) + offset[j]) for j in range(3)])
+    path = os.path.join(ARGS.work, name)
+    with open(path, "w") as fh:
+        fh.write("\n".join(lines))
+    return path
+
+
+def case_gravity_origin():
+    """The convergence test does not depend on where the coordinate origin is. A soft cylinder hanging from its top
+    under gravity (static, 22 Newton updates) is solved as given and moved 1e7 along z: both converge on the Newton
+    step (newton_step) with the same number of updates (+-1) and residual (within 10%), and sag the same (max_disp
+    within 1e-6 L). The gravity potential used to be measured from the origin and enter the energy's round-off scale
+    with its absolute value, so the moved body stopped early with energy_roundoff (after 19 updates, residual 11
+    against 0.71, before this was fixed). -newton_history logs the converged row's final correction with the length
+    applied (1: no safeguard halving here), not 0."""
+    base = ["-bc_clamp", "top", "-gravity", "0,0,-9.8", "-density", "1000", "-E", "3e3", "-nu", "0.3", "-steps", "1"]
+    rows = []
+    for tag, offset in (("origin", 0.0), ("moved", 1e7)):
+        msh = translated_mesh(mesh("cylinder"), (0.0, 0.0, offset), "cylinder_%s.msh" % tag)
+        run(["-dm_plex_filename", msh] + base + ["-stats", out_base(tag) + ".csv", "-newton_history",
+                                                 out_base(tag) + "_newton.csv"], tag=tag)
+        rows.append(stats(out_base(tag) + ".csv")[0])
+        history = stats(out_base(tag) + "_newton.csv")
+        if len(history) != int(rows[-1]["newton_its"]) + 1 or float(history[-1]["lambda"]) != 1.0:
+            fail("%s: %d history rows for %s updates, last lambda %s (the final correction, expected 1)"
+                 % (tag, len(history), rows[-1]["newton_its"], history[-1]["lambda"]))
+    for r in rows:
+        print("%s updates, reason %s, residual %s, max_disp %s" % (r["newton_its"], r["reason"], r["residual"],
+                                                                  r["max_disp"]))
+    a, b = rows
+    if a["reason"] != "newton_step" or b["reason"] != "newton_step":
+        fail("both runs must converge on the Newton step: %s / %s" % (a["reason"], b["reason"]))
+    if abs(int(a["newton_its"]) - int(b["newton_its"])) > 1:
+        fail("Newton updates differ: %s / %s" % (a["newton_its"], b["newton_its"]))
+    if not abs(float(a["residual"]) - float(b["residual"])) <= 0.1 * float(a["residual"]):
+        fail("final residuals differ: %s / %s" % (a["residual"], b["residual"]))
+    if not abs(float(a["max_disp"]) - float(b["max_disp"])) <= 1e-6 * 2.3:  # L of the test cylinder ~ 2.24
+        fail("the sag differs: max_disp %s / %s" % (a["max_disp"], b["max_disp"]))
+
+
 def solve_blocks(history_csv, step="1"):
     """The -newton_history rows of one step, split into its Newton solves (each starts at iteration 0)."""
     blocks = []
@@ -1141,6 +1188,7 @@ CASES = {
     "output_times": case_output_times,
     "version": case_version,
     "help": case_help,
+    "gravity_origin": case_gravity_origin,
     "scripts": case_scripts,
     "paraview": case_paraview,
     "unused_option_warning": case_unused_option_warning,

@@ -6,11 +6,13 @@
 //    clamp or abs per Newton iteration by the trust-region ratio of the previous update (Chen et al. 2024).
 //  * Convergence is decided on the Newton direction BEFORE any line search (paper Sec. 6): a step is converged when
 //    the inf-norm of the Newton step from a converged linear solve is at most -newton_tol * L (* dt for backward
-//    Euler), L the rest bounding-box diagonal. The state is then kept as it is (no update), so a state at rest
-//    converges with 0 updates (reason converged_initial). Backward Euler with a PSD-filtered Hessian has
-//    H >= M / dt^2, which bounds the Newton step by the residual alone (stepBound): below the tolerance the step is
-//    certified without a linear solve (reason step_bound). A direction whose predicted energy decrease is below the
-//    energy's round-off is converged too (energy_roundoff): no line search can measure progress there. PETSc's
+//    Euler), L the rest bounding-box diagonal. That small step is applied as a final correction (no line search, the
+//    safeguard still applies) and not counted as an update, so a state at rest converges with 0 updates (reason
+//    converged_initial). Backward Euler with a PSD-filtered Hessian has H >= M / dt^2, which bounds the Newton step
+//    by the residual alone (stepBound): below the tolerance the step is certified without a linear solve (reason
+//    step_bound). A direction whose predicted energy decrease is below the energy's round-off and whose step is
+//    within kRoundoffStepFactor x the tolerance is converged too (energy_roundoff, at any iteration; not applied):
+//    no line search can measure progress there (convergence_rule.hpp). PETSc's
 //    relative residual test is off by default (-snes_rtol 0): a residual small relative to a huge initial one (a
 //    scrambled start) is not equilibrium. A direction from a loose linear solve (-newton_forcing, -snes_ksp_ew)
 //    certifies only through a bound on its error or after a solve at -ksp_rtol.
@@ -33,6 +35,7 @@
 #pragma once
 
 #include "fem/discretization.hpp"
+#include "solver/convergence_rule.hpp"
 
 #include <petscsnes.h>
 
@@ -44,15 +47,6 @@ namespace aries::solver {
 // The six rigid-body modes (orthonormalized) of the positions in a global vector with `dofsPerVertex` per vertex.
 PetscErrorCode rigidBodyModes(Vec positions, PetscInt dofsPerVertex, MatNullSpace *modes);
 
-// How a Newton solve ended, beyond PETSc's SNESConvergedReason.
-enum class Convergence {
-  None,            // not converged (see the SNES reason)
-  Initial,         // the first Newton step was already below the tolerance: no update
-  NewtonStep,      // the Newton step after >= 1 update is below the tolerance
-  StepBound,       // backward Euler: the residual bounds the Newton step below the tolerance (no linear solve)
-  EnergyRoundoff,  // the predicted decrease along the Newton direction is below the energy's round-off
-  Petsc,           // one of PETSc's tests the user enabled (-snes_atol, -snes_rtol, -snes_stol)
-};
 
 // One Newton iteration, for -newton_history and the convergence charts.
 struct IterationRecord {
@@ -60,7 +54,8 @@ struct IterationRecord {
   double energy = 0.0;      // total potential at the iterate
   double residual = 0.0;    // |gradient|_2 over the free dofs
   double stepInf = 0.0;     // |Newton step|_inf (before acceleration and line search)
-  double lambda = 0.0;      // accepted line-search length of the update (0: no update, converged)
+  double lambda = 0.0;      // length of the step applied from this iterate: the line search's, or the final
+                            // correction's on a converged row (1, halved by the safeguard); 0: nothing applied
   PetscInt linearIterations = 0;
   char filter = 'c';        // element Hessian filter of this iteration: c(lamp), a(bs), n(one)
   bool accelerated = false; // the update used the subspace step

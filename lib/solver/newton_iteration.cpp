@@ -206,12 +206,18 @@ PetscErrorCode NewtonSolver::certify(Vec X, Vec Y, Vec F, PetscInt iter, bool *c
   slope_ = slope;
   // Round-off of the summed energy: machine epsilon times the sum of the magnitudes of its terms, with a safety factor
   // for the accumulation over many terms. A predicted decrease below it cannot be measured by any line search.
-  const double roundoffLevel = 1e3 * kernels::kEps * magnitude;
-  bool small = linearReason > 0 && stepInf <= stepTol_;
-  bool roundoff = linearReason > 0 && std::abs((double)slope) <= roundoffLevel;
+  DirectionMeasures m;
+  m.linearConverged = linearReason > 0;
+  m.iteration = static_cast<int>(iter);
+  m.stepInf = stepInf;
+  m.stepTol = stepTol_;
+  m.slope = slope;
+  m.roundoff = 1e3 * kernels::kEps * magnitude;
+  Convergence how = classifyDirection(m);
   PetscCall(KSPGetTolerances(ksp, &rtol, nullptr, nullptr, nullptr));
   const bool loose = rtol > baseRtol_ || forcingStopped_;
-  if ((small || roundoff) && loose) {
+  const bool small = how == Convergence::Initial || how == Convergence::NewtonStep;
+  if (how != Convergence::None && loose) {
     bool bounded = false;
     if (small && dynamic_) {
       PetscReal errorBound;
@@ -240,12 +246,14 @@ PetscErrorCode NewtonSolver::certify(Vec X, Vec Y, Vec F, PetscInt iter, bool *c
       PetscCall(VecDot(F, Y, &slope));
       pending_.stepInf = stepInf;
       slope_ = slope;
-      small = linearReason > 0 && stepInf <= stepTol_;
-      roundoff = linearReason > 0 && std::abs((double)slope) <= roundoffLevel;
+      m.linearConverged = linearReason > 0;
+      m.stepInf = stepInf;
+      m.slope = slope;
+      how = classifyDirection(m);
     }
   }
-  if (small || roundoff) {
-    declareConverged(iter == 0 ? Convergence::Initial : small ? Convergence::NewtonStep : Convergence::EnergyRoundoff);
+  if (how != Convergence::None) {
+    declareConverged(how);
     *converged = true;
   }
   PetscFunctionReturn(0);
@@ -433,15 +441,18 @@ PetscErrorCode NewtonSolver::preCheck(SNESLineSearch, Vec X, Vec Y, PetscBool *c
   if (converged) {
     // SNES stops after this line search on the reason set by certify, without counting an iteration. A Newton step
     // below the tolerance is applied as a final correction (it is an exact solve's step: the line search takes it in
-    // full, the safeguard still applies); a direction converged by round-off is not (it may be long and flat).
-    self->cur_.history.push_back(rec);
+    // full, the safeguard still applies; its length is the history row's lambda); a direction converged by
+    // round-off is not (lambda 0).
     self->havePending_ = false;
     if (self->cur_.convergence == Convergence::EnergyRoundoff) {
       PetscCall(VecSet(Y, 0.0));
       *changed = PETSC_TRUE;
     } else {
+      const PetscInt halvingsBefore = self->cur_.safeguardHalvings;
       PetscCall(self->safeguard(X, Y, changed));
+      rec.lambda = std::ldexp(1.0, -static_cast<int>(self->cur_.safeguardHalvings - halvingsBefore));
     }
+    self->cur_.history.push_back(rec);
     PetscFunctionReturn(0);
   }
   PetscCall(self->accelerate(X, Y, F, changed));

@@ -20,8 +20,8 @@ void InertiaGravity<R>::addEnergy(const PetscScalar *x, double *energy, double *
           e += ei;
           mag += ei;
         }
-        if (grav) {
-          const double ei = mass_[v] * gravity_[i] * xi;
+        if (grav) {  // relative to the rest position: neither the value nor its round-off depends on the origin
+          const double ei = mass_[v] * gravity_[i] * (xi - vi.rest[i]);
           e -= ei;
           mag += std::abs(ei);
         }

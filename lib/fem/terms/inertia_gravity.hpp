@@ -1,6 +1,8 @@
 // Inertia and gravity on the owned free vertices (lumped mass m_v, backward Euler as an incremental potential):
-// sum_v m_v [ |x_v - x~_v|^2 / (2 dt^2) - g . x_v ], with dt and the prediction x~ of the step being solved for
-// (fem/step_state.hpp); static solves have dt = 0 and keep only gravity.
+// sum_v m_v [ |x_v - x~_v|^2 / (2 dt^2) - g . (x_v - X_v) ], with dt and the prediction x~ of the step being solved
+// for (fem/step_state.hpp) and the rest position X_v as the gravity potential's datum (a constant shift that keeps
+// the value and its round-off scale independent of the coordinate origin); static solves have dt = 0 and keep only
+// gravity.
 #pragma once
 
 #include "fem/terms/term.hpp"
