@@ -35,15 +35,20 @@ bool readLater(const std::string &name) {
          name == "help";
 }
 
-// Options given but not read (so far): a misspelled option would otherwise run silently with its default.
-PetscErrorCode unusedOptions(std::string *unused) {
+// Options of the detached start's own solver (prefix detached_) are read when that phase begins, after setup.
+bool readInRun(const std::string &name) { return name.rfind("detached_", 0) == 0; }
+
+// Options given but not read (so far): a misspelled option would otherwise run silently with its default. After
+// setup the options read in the run are not reported yet; at the end `onlyInRun` reports just those (the rest
+// were reported after setup).
+PetscErrorCode unusedOptions(std::string *unused, bool atEnd, bool onlyInRun) {
   PetscInt n = 0;
   char **names = nullptr, **values = nullptr;
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsLeftGet(nullptr, &n, &names, &values));
   unused->clear();
   for (PetscInt i = 0; i < n; ++i)
-    if (!readLater(names[i])) {
+    if (!readLater(names[i]) && (atEnd || !readInRun(names[i])) && (!onlyInRun || readInRun(names[i]))) {
       const std::string near = core::nearestDeclared(std::string("-") + names[i]);
       *unused += std::string(unused->empty() ? "" : ", ") + "-" + names[i] +
                  (near.empty() ? "" : " (did you mean " + near + "?)");
@@ -52,11 +57,12 @@ PetscErrorCode unusedOptions(std::string *unused) {
   PetscFunctionReturn(0);
 }
 
-// With -strict an unused option is an error; otherwise one warning line on stderr names them all.
-PetscErrorCode checkUnusedOptions(MPI_Comm comm, PetscBool strict) {
+// With -strict an unused option is an error; otherwise one warning line on stderr names them all. Checked after
+// setup and at the end of the run.
+PetscErrorCode checkUnusedOptions(MPI_Comm comm, PetscBool strict, bool atEnd) {
   std::string unused;
   PetscFunctionBeginUser;
-  PetscCall(unusedOptions(&unused));
+  PetscCall(unusedOptions(&unused, atEnd, atEnd && !strict));
   if (unused.empty()) PetscFunctionReturn(0);
   if (strict)
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
@@ -124,7 +130,7 @@ PetscErrorCode run(int *exitCode) {
     PetscFunctionReturn(0);
   }
   // Every option is read by now except the output's own, which were read first: check before any file is written.
-  PetscCall(checkUnusedOptions(comm, strict));
+  PetscCall(checkUnusedOptions(comm, strict, false));
   io::RunOutput output;
   PetscCall(output.setup(outOpts, ckOpts, *disc, resumeStep));
   PetscCall(PetscLogStagePop());
@@ -156,7 +162,7 @@ PetscErrorCode run(int *exitCode) {
                           (int)summary.stepsDone, summary.lastReason.c_str()));
     *exitCode = 3;
   }
-  if (strict) PetscCall(checkUnusedOptions(comm, strict));
+  PetscCall(checkUnusedOptions(comm, strict, true));
   PetscFunctionReturn(0);
 }
 

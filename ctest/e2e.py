@@ -414,6 +414,20 @@ def case_detached_start():
     if len(blocks) != 2:
         fail("aniso with two directions leaves the third strain to the volume term: the shape stage must be "
              "skipped (two solves in step 1), got %d" % len(blocks))
+    # The detached phase is a solver of its own (prefix detached_): -detached_snes_max_it 1 stops each of its solves
+    # after one update (neither converges, so the supported solve starts from the synthetic state), while the
+    # supported solve keeps the main settings and converges.
+    one = base[:]
+    one[one.index("-steps") + 1] = "1"
+    run(one + ["-detached_snes_max_it", "1", "-strict", "-stats", out_base(tag + "_max1") + ".csv", "-newton_history",
+               out_base(tag + "_max1") + "_newton.csv"], tag=tag + "_max1")
+    blocks = solve_blocks(out_base(tag + "_max1") + "_newton.csv")
+    rows = stats(out_base(tag + "_max1") + ".csv")
+    updates = [len(b) - 1 for b in blocks]
+    print("-detached_snes_max_it 1: step 1 solves (history rows - 1 each) %s, %s" % (updates, rows[0]["reason"]))
+    if len(blocks) != 3 or max(len(blocks[0]), len(blocks[1])) > 2 or rows[0]["reason"] != "newton_step":
+        fail("with -detached_snes_max_it 1 each detached solve should stop after one update and the supported solve "
+             "converge: %s rows per solve, reason %s" % ([len(b) for b in blocks], rows[0]["reason"]))
 
 
 def translated_mesh(msh, offset, name):

@@ -105,7 +105,7 @@ PetscErrorCode Simulation::detachedStart(NewtonResult *acc) {
   NewtonResult result;
   {
     NewtonSolver newton;
-    PetscCall(newton.setup(*detached, false, 0.0));
+    PetscCall(newton.setup(*detached, false, 0.0, &newton_, "detached_"));
     newton.setFloating(true);
     bool shapeStage = false;
     if (opts_.detachedShapeFirst) PetscCall(detached->stretchTermsFixShape(&shapeStage));

@@ -77,10 +77,8 @@ NewtonSolver::~NewtonSolver() {
 // Rigid-body modes of the rest configuration as the Jacobian's near-nullspace (-near_nullspace rigid, the default):
 // algebraic multigrid (-pc_type gamg) builds its coarse spaces from them; other preconditioners ignore them.
 PetscErrorCode NewtonSolver::attachNearNullSpace() {
-  int mode = 0;  // rigid|none
   PetscFunctionBeginUser;
-  PetscCall(core::getChoice(opt::nearNullspace, &mode));
-  if (mode == 1) PetscFunctionReturn(0);
+  if (nearNullspace_ == 1) PetscFunctionReturn(0);  // rigid|none
   MatNullSpace nsp;
   PetscCall(disc_->restPositions(work_));
   PetscCall(rigidBodyModes(work_, disc_->dofsPerVertex(), &nsp));
@@ -146,17 +144,29 @@ kernels::EigenFilter NewtonSolver::initialFilter() const {
 // Hessians of a scrambled body are near-singular); the subspace step is unlimited with inertia and limited to twice
 // the Newton step, after full steps only, without it (a static solve from a scramble can otherwise jump into another
 // basin, e.g. a folded body).
-PetscErrorCode NewtonSolver::readOptions(bool dynamic) {
-  const core::ReadContext at{nullptr, dynamic ? "beuler" : "static"};
+PetscErrorCode NewtonSolver::readOptions(bool dynamic, const NewtonSolver *base, const char *prefix) {
+  const core::ReadContext at{prefix, dynamic ? "beuler" : "static", base != nullptr};
   PetscFunctionBeginUser;
+  if (base) {  // start from the base solver's values; the prefixed options override them
+    newtonTol_ = base->newtonTol_;
+    alphaMin_ = base->alphaMin_;
+    filterMode_ = base->filterMode_;
+    analyticEigensystem_ = base->analyticEigensystem_;
+    adaptiveTol_ = base->adaptiveTol_;
+    subspace_ = base->subspace_;
+    subspaceMax_ = base->subspaceMax_;
+    rotation_ = base->rotation_;
+    forcing_ = base->forcing_;
+    nearNullspace_ = base->nearNullspace_;
+  }
   PetscCall(core::get(opt::newtonTol, &newtonTol_, nullptr, at));
-  PetscCall(core::get(opt::alphaMin, &alphaMin_));
+  PetscCall(core::get(opt::alphaMin, &alphaMin_, nullptr, at));
   PetscCall(core::getChoice(opt::psdProjection, &filterMode_, nullptr, at));
-  int eigensystem = 0;  // analytic|numeric
-  PetscCall(core::getChoice(opt::psdEigensystem, &eigensystem));
+  int eigensystem = analyticEigensystem_ ? 0 : 1;  // analytic|numeric
+  PetscCall(core::getChoice(opt::psdEigensystem, &eigensystem, nullptr, at));
   analyticEigensystem_ = eigensystem == 0;
-  if (filterMode_ == EigenFilterMode::Adaptive) PetscCall(core::get(opt::psdAdaptiveTol, &adaptiveTol_));
-  PetscCall(core::get(opt::newtonSubspace, &subspace_));
+  if (filterMode_ == EigenFilterMode::Adaptive) PetscCall(core::get(opt::psdAdaptiveTol, &adaptiveTol_, nullptr, at));
+  PetscCall(core::get(opt::newtonSubspace, &subspace_, nullptr, at));
   if (subspace_ > 0) {
     PetscCall(core::get(opt::newtonSubspaceMax, &subspaceMax_, nullptr, at));
     if (subspaceMax_ > 0.0 && subspaceMax_ < 1.0)
@@ -164,14 +174,48 @@ PetscErrorCode NewtonSolver::readOptions(bool dynamic) {
               subspaceMax_);
   }
   PetscCall(core::get(opt::newtonRotation, &rotation_, nullptr, at));
-  PetscCall(core::get(opt::newtonForcing, &forcing_));
+  PetscCall(core::get(opt::newtonForcing, &forcing_, nullptr, at));
   PetscBool guess = PETSC_FALSE;
-  if (dynamic) PetscCall(core::get(opt::newtonInertiaGuess, &guess));
+  if (dynamic) PetscCall(core::get(opt::newtonInertiaGuess, &guess, nullptr, at));
   useInertiaGuess_ = guess;
+  PetscCall(core::getChoice(opt::nearNullspace, &nearNullspace_, nullptr, at));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode NewtonSolver::setup(fem::Discretization &disc, bool dynamic, double dt) {
+// The base solver's PETSc settings that SNESSetFromOptions would otherwise leave at aries' defaults for a prefixed
+// solver: SNES tolerances, line search type, KSP type and tolerances, PC type. Type-specific options (-pc_gamg_*,
+// -ksp_cg_type, ...) apply to the prefixed solver only when given with its prefix.
+PetscErrorCode NewtonSolver::copySolverSettings(const NewtonSolver &base) {
+  PetscReal atol, rtol, stol, krtol, kabstol, kdtol;
+  PetscInt maxit, maxf, kmaxit;
+  SNESLineSearch ls, baseLs;
+  SNESLineSearchType lsType;
+  KSP ksp, baseKsp;
+  KSPType kspType;
+  PC pc, basePc;
+  PCType pcType;
+  PetscFunctionBeginUser;
+  PetscCall(SNESGetTolerances(base.snes_, &atol, &rtol, &stol, &maxit, &maxf));
+  PetscCall(SNESSetTolerances(snes_, atol, rtol, stol, maxit, maxf));
+  PetscCall(SNESGetLineSearch(base.snes_, &baseLs));
+  PetscCall(SNESLineSearchGetType(baseLs, &lsType));
+  PetscCall(SNESGetLineSearch(snes_, &ls));
+  PetscCall(SNESLineSearchSetType(ls, lsType));
+  PetscCall(SNESGetKSP(base.snes_, &baseKsp));
+  PetscCall(SNESGetKSP(snes_, &ksp));
+  PetscCall(KSPGetType(baseKsp, &kspType));
+  PetscCall(KSPSetType(ksp, kspType));
+  PetscCall(KSPGetTolerances(baseKsp, &krtol, &kabstol, &kdtol, &kmaxit));
+  PetscCall(KSPSetTolerances(ksp, krtol, kabstol, kdtol, kmaxit));
+  PetscCall(KSPGetPC(baseKsp, &basePc));
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(PCGetType(basePc, &pcType));
+  PetscCall(PCSetType(pc, pcType));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode NewtonSolver::setup(fem::Discretization &disc, bool dynamic, double dt, const NewtonSolver *base,
+                                   const char *prefix) {
   MPI_Comm comm;
   PetscBool set;
   PetscFunctionBeginUser;
@@ -181,10 +225,11 @@ PetscErrorCode NewtonSolver::setup(fem::Discretization &disc, bool dynamic, doub
   PetscCall(PetscObjectGetComm((PetscObject)dm, &comm));
   PetscCall(PetscLogStageGetId("assembly", &assemblyStage_));
   if (assemblyStage_ < 0) PetscCall(PetscLogStageRegister("assembly", &assemblyStage_));
-  PetscCall(readOptions(dynamic));
+  PetscCall(readOptions(dynamic, base, prefix));
   PetscCall(setTimeStep(dt));
 
   PetscCall(SNESCreate(comm, &snes_));
+  if (prefix) PetscCall(SNESSetOptionsPrefix(snes_, prefix));
   PetscCall(SNESSetDM(snes_, dm));
   PetscCall(SNESSetType(snes_, SNESNEWTONLS));
   PetscCall(DMSNESSetBoundaryLocal(dm, boundaryLocal, this));
@@ -231,6 +276,7 @@ PetscErrorCode NewtonSolver::setup(fem::Discretization &disc, bool dynamic, doub
   PetscCall(SNESGetLineSearch(snes_, &ls));
   PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHBT));
   PetscCall(SNESSetConvergenceTest(snes_, convergenceTest, this, nullptr));
+  if (base) PetscCall(copySolverSettings(*base));
   PetscCall(SNESSetFromOptions(snes_));
   PetscCall(KSPGetTolerances(ksp, &baseRtol_, nullptr, nullptr, nullptr));
   PetscCall(KSPConvergedDefaultCreate(&defaultKspCtx_));

@@ -85,7 +85,11 @@ class NewtonSolver {
   ~NewtonSolver();
   // Reads the Newton options (docs/options.md, "Time stepping and solver"); `dynamic` selects the backward Euler
   // defaults (dt-scaled tolerance, clamp filter, unlimited subspace step, inertia initial guess).
-  PetscErrorCode setup(fem::Discretization &disc, bool dynamic, double dt);
+  // `base` and `prefix`: a solver for a phase of its own (the detached start, prefix "detached_"): its Newton options
+  // and PETSc solver settings start from `base`'s (SNES tolerances, line search type, KSP type and tolerances, PC
+  // type) and are overridden by the same options under the prefix (-detached_newton_tol, -detached_snes_max_it, ...).
+  PetscErrorCode setup(fem::Discretization &disc, bool dynamic, double dt, const NewtonSolver *base = nullptr,
+                       const char *prefix = nullptr);
   PetscErrorCode solve(Vec x, NewtonResult *result);  // x: initial guess in, solution out (global, free dofs)
   // The time step changed (-on_failure halve_dt): tolerance and step bound follow it.
   PetscErrorCode setTimeStep(double dt);
@@ -107,7 +111,8 @@ class NewtonSolver {
   PetscInt totalHalvings() const { return halvingsTotal_; }
 
  private:
-  PetscErrorCode readOptions(bool dynamic);
+  PetscErrorCode readOptions(bool dynamic, const NewtonSolver *base, const char *prefix);
+  PetscErrorCode copySolverSettings(const NewtonSolver &base);
   PetscErrorCode attachNearNullSpace();
   PetscErrorCode configureMultigrid();
   PetscErrorCode stepBound(Vec g, PetscReal *bound);  // backward Euler bound on |H^-1 g|_inf
@@ -149,6 +154,7 @@ class NewtonSolver {
   PetscInt subspace_ = 1;
   double subspaceMax_ = 0.0;   // limit of the Newton direction's coefficient in a subspace step (0: none)
   bool floating_ = false;
+  int nearNullspace_ = 0;       // -near_nullspace rigid|none
   PetscInt rotation_ = -1;      // rotational update: -1 off, else the number of angle doublings tried
   bool useInertiaGuess_ = true;
   double forcing_ = 0.0;
