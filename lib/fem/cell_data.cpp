@@ -3,7 +3,7 @@
 // -target_file) and the caricature field computed from the rest surface (paper Sec. 6).
 #include "fem/discretization_impl.hpp"
 
-#include "preprocess/caricature_field.hpp"
+#include "fem/caricature_field.hpp"
 #include "fem/cell_files.hpp"
 #include "core/options.hpp"
 #include "fem/fem_options.hpp"

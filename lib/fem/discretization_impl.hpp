@@ -10,7 +10,7 @@
 
 #include "fem/discretization.hpp"
 #include "fem/material_options.hpp"
-#include "preprocess/shape_targets.hpp"
+#include "fem/shape_targets.hpp"
 #include "fem/terms/bending_hinges.hpp"
 #include "fem/terms/elastic_cells.hpp"
 #include "fem/terms/inertia_gravity.hpp"

@@ -1,5 +1,5 @@
 // The options of the discretization layer (mesh, material, boundary conditions, body forces, cloth terms), declared
-// once (core/option_decl.hpp): the readers in lib/fem and lib/preprocess, `aries -help` and docs/options.md use
+// once (core/option_decl.hpp): the readers in lib/fem, `aries -help` and docs/options.md use
 // these. An energy's own parameters (-gamma, -beta, ...) are declared by its descriptor (energies/catalog/).
 #pragma once
 

@@ -1,7 +1,7 @@
 #include "preprocess/tutte.hpp"
 
 #include "core/errors.hpp"
-#include "preprocess/harmonic.hpp"
+#include "fem/harmonic.hpp"
 
 #include <petscsf.h>
 

@@ -1,4 +1,4 @@
-#include "preprocess/harmonic.hpp"
+#include "fem/harmonic.hpp"
 
 #include <petscksp.h>
 

@@ -1,7 +1,7 @@
-#include "preprocess/caricature_field.hpp"
+#include "fem/caricature_field.hpp"
 
 #include "core/errors.hpp"
-#include "preprocess/harmonic.hpp"
+#include "fem/harmonic.hpp"
 
 #include <petscsf.h>
 

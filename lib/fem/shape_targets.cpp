@@ -1,4 +1,4 @@
-#include "preprocess/shape_targets.hpp"
+#include "fem/shape_targets.hpp"
 
 #include "fem/cell_files.hpp"
 #include "core/options.hpp"
