@@ -6,12 +6,21 @@
 
 namespace aries::energies {
 
+// The registry's dispatch, compiled once per element shape (evaluate_tet.cpp, evaluate_planar.cpp,
+// evaluate_cloth.cpp): the translation units that evaluate energies (assembly, diagnostics, the tests) do not each
+// compile every energy's kernels.
+template <int R, int C>
+kernels::Derivs<R * C> evaluateRegisteredEnergy(const EnergyInput<R, C> &in);
+extern template kernels::Derivs<9> evaluateRegisteredEnergy<3, 3>(const EnergyInput<3, 3> &);
+extern template kernels::Derivs<4> evaluateRegisteredEnergy<2, 2>(const EnergyInput<2, 2> &);
+extern template kernels::Derivs<6> evaluateRegisteredEnergy<3, 2>(const EnergyInput<3, 2> &);
+
 // `filter` (optional, with Order::Hessian): the Hessian is returned eigenvalue-filtered (evaluateFilteredEnergy).
 template <int R, int C>
 inline kernels::Derivs<R * C> evaluateEnergy(const Material &m, const CellData<C> &cell, const Mat<R, C> &F,
                                              kernels::Order order = kernels::Order::Hessian,
                                              const HessianFilter *filter = nullptr) {
-  return evaluateRegistered<R, C>(EnergyInput<R, C>{m, cell, F, order, filter});
+  return evaluateRegisteredEnergy<R, C>(EnergyInput<R, C>{m, cell, F, order, filter});
 }
 
 // Value, PK1 and the eigenvalue-filtered Hessian (projected Newton): through the energy's closed-form eigensystem

@@ -19,11 +19,6 @@ struct Fibers {
   Vec<C> a, b;  // random unit fibers, b NOT orthogonal to a (the general cross-fiber case)
 };
 
-template <int R, int C>
-constexpr const char *shapeTag() {
-  return (R == 3 && C == 3) ? "3x3" : (R == 2 ? "2x2" : "3x2");
-}
-
 // Runs the FD check of `fn(F, order, fibers)` over all standard families; each family sample gets its own fibers.
 template <int R, int C, class Fn>
 void runInvariant(const std::string &name, Fn &&fn, FdExpect ex = {}) {

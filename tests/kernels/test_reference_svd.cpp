@@ -30,11 +30,6 @@ constexpr double kRefTol = 1e-12;
 constexpr double kCond = 64.0;  // constant of the conditioning-aware bound (observed ratio <= ~2, see the ledger)
 
 template <int R, int C>
-constexpr const char *tag() {
-  return (R == 3 && C == 3) ? "3x3" : (R == 2 ? "2x2" : "3x2");
-}
-
-template <int R, int C>
 struct Reference {
   double f, alpha, I4, I6;
   Mat<R, C> Rot;
@@ -60,7 +55,7 @@ std::pair<Vec<C>, Vec<C>> meaningfulFibers(const Mat<R, C> &F, Rng &rng) {
 
 template <int R, int C>
 std::vector<Sample<R, C>> referenceFamilies() {
-  Rng rng(seedOf(std::string("svd reference ") + tag<R, C>()));
+  Rng rng(seedOf(std::string("svd reference ") + shapeTag<R, C>()));
   std::vector<Sample<R, C>> out;
   for (int k = 0; k < 4; ++k) out.push_back({"random", "random #" + std::to_string(k), randomF<R, C>(rng, 0.5, 0.05)});
   Vec<C> s;
@@ -94,7 +89,7 @@ std::vector<Sample<R, C>> referenceFamilies() {
 
 template <int R, int C>
 void checkAgainstSvd() {
-  Rng rng(seedOf(std::string("svd fibers ") + tag<R, C>()));
+  Rng rng(seedOf(std::string("svd fibers ") + shapeTag<R, C>()));
   for (const auto &smp : referenceFamilies<R, C>()) {
     const Mat<R, C> &F = smp.F;
     const auto [a, b] = meaningfulFibers<R, C>(F, rng);
@@ -105,7 +100,7 @@ void checkAgainstSvd() {
     const double I4 = invariantI4<R, C>(F, a, Order::Value).value;
     const double I6 = invariantI6<R, C>(F, a, b, Order::Value).value;
     const double alpha = alphaMeasure<R, C>(F, Order::Value).value;
-    const std::string what = std::string(tag<R, C>()) + " " + smp.label + "\n  " + describe<R, C>(F);
+    const std::string what = std::string(shapeTag<R, C>()) + " " + smp.label + "\n  " + describe<R, C>(F);
     const double ef = relErr(f, ref.f), eR = relErr(Rot, ref.Rot), e4 = relErr(I4, ref.I4), e6 = relErr(I6, ref.I6),
                  ea = relErr(alpha, ref.alpha);
     EXPECT_LT(ef, kRefTol) << "f: " << what;
@@ -115,7 +110,7 @@ void checkAgainstSvd() {
     EXPECT_LT(ea, kRefTol) << "alpha: " << what;
     // elementAlpha / rootValue (what the line search reads) are the same alpha.
     EXPECT_EQ(rootValue(F).alpha, alpha);
-    const std::string key = std::string(tag<R, C>()) + " " + smp.family;
+    const std::string key = std::string(shapeTag<R, C>()) + " " + smp.family;
     recordError("SVD ref f     " + key, ef);
     recordError("SVD ref R     " + key, eR);
     recordError("SVD ref I4    " + key, e4);

@@ -138,18 +138,13 @@ double svdAlpha(const Mat<R, C> &F) {
   return alphaFromSigma<R, C>(signedSvd(F).s);
 }
 
-template <int R, int C>
-constexpr const char *tag() {
-  return (R == 3 && C == 3) ? "3x3" : (R == 2 ? "2x2" : "3x2");
-}
-
 // Test points: generic, inverted, stretched, and near alpha = 0 (normalized alpha 0.1 = Newton path, 0.03 = Horn
 // eigen path of the 3x3 root, threshold 0.05). Near alpha = 0 the point is at distance ~alpha^2 from the fold of
 // f(y) (a double root of p), so FD in y is truncation limited there: at alpha_n = 0.03 the best error (h = 1e-8) is
 // ~1e-7 for f_lmn, still decreasing like h^2, i.e. the reference, not the kernel, sets that number.
 template <int R, int C>
 std::vector<Sample<R, C>> rootSamples() {
-  Rng rng(seedOf(std::string("root ") + tag<R, C>()));
+  Rng rng(seedOf(std::string("root ") + shapeTag<R, C>()));
   std::vector<Sample<R, C>> out;
   Vec<C> s;
   if constexpr (C == 3) {
@@ -204,7 +199,7 @@ template <int R, int C>
 void checkRootDerivatives() {
   constexpr int K = RootPoly<R, C>::K;
   for (const auto &s : rootSamples<R, C>()) {
-    const std::string what = std::string(tag<R, C>()) + " " + s.label + "\n  " + describe<R, C>(s.F);
+    const std::string what = std::string(shapeTag<R, C>()) + " " + s.label + "\n  " + describe<R, C>(s.F);
     const RootDerivatives<K> rd = rootDerivatives(s.F, 3);
     const VecL<K> y = rootInvariantsLD<R, C>(s.F);
     const VecL<K> sc = y.cwiseAbs();
@@ -250,7 +245,7 @@ void checkRootDerivatives() {
         }
     EXPECT_GT(d3norm, 0.0);
     EXPECT_EQ(d3asym, 0.0) << "f_lmn not symmetric: " << what;
-    const std::string key = std::string(tag<R, C>()) + " " + s.family;
+    const std::string key = std::string(shapeTag<R, C>()) + " " + s.family;
     recordError("root f_l   vs FD " + key, e1);
     recordError("root f_lm  vs FD " + key, e2);
     recordError("root f_lmn vs FD " + key, e3);

@@ -14,11 +14,6 @@ namespace {
 
 using namespace aries::kernels;
 
-template <int R, int C>
-constexpr const char *tag() {
-  return (R == 3 && C == 3) ? "3x3" : (R == 2 ? "2x2" : "3x2");
-}
-
 // Tets are shrunk so that the absolute alpha of the mollifier band sits at normalized alpha ~0.04 .. 0.1, where FD
 // can resolve the raw I4 Hessian (see energyFamilies in test_energies_fd.cpp for the reason).
 template <int R, int C>
@@ -30,7 +25,7 @@ constexpr double bandScale() {
 
 template <int R, int C>
 void mollifierFd() {
-  Rng rng(seedOf(std::string("mollifier fd ") + tag<R, C>()));
+  Rng rng(seedOf(std::string("mollifier fd ") + shapeTag<R, C>()));
   const MollifierParams p;  // eps = 1e-3, proxy 0
   ASSERT_EQ(p.eps, 1e-3);
   ASSERT_EQ(p.proxy, 0.0);
@@ -40,11 +35,11 @@ void mollifierFd() {
     ASSERT_NEAR(rootValue(F).alpha / alpha, 1.0, 1e-6);
     const std::string fam = alpha <= 3e-3 ? "band" : "above_band";
     expectDerivatives<R, C>([&](const Mat<R, C> &G, Order o) { return mollifiedI4<R, C>(G, a, p, o); }, F,
-                            std::string("mollified I4 ") + tag<R, C>() + " alpha=" + std::to_string(alpha),
-                            std::string("mollified I4 ") + tag<R, C>() + " " + fam);
+                            std::string("mollified I4 ") + shapeTag<R, C>() + " alpha=" + std::to_string(alpha),
+                            std::string("mollified I4 ") + shapeTag<R, C>() + " " + fam);
     expectDerivatives<R, C>([&](const Mat<R, C> &G, Order o) { return mollifiedI6<R, C>(G, a, b, p, o); }, F,
-                            std::string("mollified I6 ") + tag<R, C>() + " alpha=" + std::to_string(alpha),
-                            std::string("mollified I6 ") + tag<R, C>() + " " + fam);
+                            std::string("mollified I6 ") + shapeTag<R, C>() + " alpha=" + std::to_string(alpha),
+                            std::string("mollified I6 ") + shapeTag<R, C>() + " " + fam);
     // Inside the band the blend is a genuine mix: strictly between the proxy and the raw value.
     if (alpha < 3e-3) {
       const double raw = invariantI4<R, C>(F, a, Order::Value).value, mol = mollifiedI4<R, C>(F, a, p).value;
@@ -53,11 +48,11 @@ void mollifierFd() {
     }
   }
   // Random F (far above the band) for the other families.
-  for (const auto &s : standardFamilies<R, C>(seedOf(std::string("mollifier standard ") + tag<R, C>()))) {
+  for (const auto &s : standardFamilies<R, C>(seedOf(std::string("mollifier standard ") + shapeTag<R, C>()))) {
     const Vec<C> a = randomUnit<C>(rng);
     expectDerivatives<R, C>([&](const Mat<R, C> &G, Order o) { return mollifiedI4<R, C>(G, a, p, o); }, s.F,
-                            std::string("mollified I4 ") + tag<R, C>() + " " + s.label,
-                            std::string("mollified I4 ") + tag<R, C>() + " " + s.family);
+                            std::string("mollified I4 ") + shapeTag<R, C>() + " " + s.label,
+                            std::string("mollified I4 ") + shapeTag<R, C>() + " " + s.family);
   }
 }
 
@@ -69,7 +64,7 @@ TEST(Mollifier, FiniteDifferencesInAndAroundBand_3x2) { mollifierFd<3, 2>(); }
 // bit-identical to the raw invariant.
 template <int R, int C>
 void mollifierExactOutsideBand() {
-  Rng rng(seedOf(std::string("mollifier exact ") + tag<R, C>()));
+  Rng rng(seedOf(std::string("mollifier exact ") + shapeTag<R, C>()));
   for (double proxy : {0.0, 0.37}) {
     MollifierParams p;
     p.proxy = proxy;
@@ -198,7 +193,7 @@ SingularPath<R, C> makePath(Rng &rng, double scale) {
 
 template <int R, int C>
 void mollifierContinuity() {
-  Rng rng(seedOf(std::string("mollifier C1 ") + tag<R, C>()));
+  Rng rng(seedOf(std::string("mollifier C1 ") + shapeTag<R, C>()));
   for (double proxy : {0.0, 0.37}) {
     MollifierParams p;
     p.proxy = proxy;
@@ -211,12 +206,12 @@ void mollifierContinuity() {
       const double scaleG = invariantI4<R, C>(path(dStar), a).grad.norm();
       // Steps relative to the distance to the singular set (d*), so the path stays on one side of alpha = 0.
       const auto js = jumps<R, C>(fn, path, dStar, 1e-2 * dStar, 6);
-      const std::string what = std::string(tag<R, C>()) + " mollified I4, proxy " + std::to_string(proxy) +
+      const std::string what = std::string(shapeTag<R, C>()) + " mollified I4, proxy " + std::to_string(proxy) +
                                ", across alpha = " + std::to_string(boundary);
       expectVanishingJumps(js.value, js.t, scaleV, what + " (value)");
       expectVanishingJumps(js.grad, js.t, scaleG, what + " (PK1)");
-      recordError(std::string("mollifier C1 last value jump ") + tag<R, C>(), js.value.back() / scaleV);
-      recordError(std::string("mollifier C1 last PK1 jump   ") + tag<R, C>(), js.grad.back() / scaleG);
+      recordError(std::string("mollifier C1 last value jump ") + shapeTag<R, C>(), js.value.back() / scaleV);
+      recordError(std::string("mollifier C1 last PK1 jump   ") + shapeTag<R, C>(), js.grad.back() / scaleG);
       // And the blend really switches here: at d* - 0.1 d* / d* + 0.1 d* one side is the proxy / the raw value.
       if (boundary == p.eps) {
         EXPECT_EQ(fn(path(0.9 * dStar), Order::Value).value, proxy * fiberTensor<C>(a).trace());
@@ -295,7 +290,7 @@ TEST(Barrier, BlowsUpAtZeroAndIsInfiniteAtOrBelowZero) {
 
 template <int R, int C>
 void barrierFd() {
-  Rng rng(seedOf(std::string("barrier fd ") + tag<R, C>()));
+  Rng rng(seedOf(std::string("barrier fd ") + shapeTag<R, C>()));
   int active = 0;
   for (double alpha : {1e-3, 2e-3, 5e-3, 9e-3, 2e-2}) {
     const Mat<R, C> F = alphaF<R, C>(rng, alpha, false);
@@ -304,8 +299,8 @@ void barrierFd() {
     ex.allowZeroGradient = ex.allowZeroHessian = !inside;
     const auto rep = expectDerivatives<R, C>(
         [](const Mat<R, C> &G, Order o) { return aberrationBarrier<R, C>(G, BarrierParams{}, o); }, F,
-        std::string("barrier ") + tag<R, C>() + " alpha=" + std::to_string(alpha),
-        std::string("barrier ") + tag<R, C>() + (inside ? " active" : " inactive"), ex);
+        std::string("barrier ") + shapeTag<R, C>() + " alpha=" + std::to_string(alpha),
+        std::string("barrier ") + shapeTag<R, C>() + (inside ? " active" : " inactive"), ex);
     if (inside) {
       EXPECT_GT(rep.analytic.value, 0.0);
       ++active;
@@ -323,7 +318,7 @@ TEST(Barrier, FiniteDifferencesInsideActiveRegion_3x2) { barrierFd<3, 2>(); }
 // C2 across alpha = eps along a path: value, PK1 and Hessian jumps all vanish.
 template <int R, int C>
 void barrierContinuity() {
-  Rng rng(seedOf(std::string("barrier C2 ") + tag<R, C>()));
+  Rng rng(seedOf(std::string("barrier C2 ") + shapeTag<R, C>()));
   const auto path = makePath<R, C>(rng, 1.0);
   const double dStar = path.crossing(1e-2);
   auto fn = [](const Mat<R, C> &F, Order o) { return aberrationBarrier<R, C>(F, BarrierParams{}, o); };
@@ -331,7 +326,7 @@ void barrierContinuity() {
   // Scales: the barrier's derivatives a little inside the active region.
   const auto inside = fn(path(0.5 * dStar), Order::Hessian);
   ASSERT_GT(inside.hess.norm(), 0.0);
-  const std::string what = std::string(tag<R, C>()) + " barrier across alpha = eps";
+  const std::string what = std::string(shapeTag<R, C>()) + " barrier across alpha = eps";
   expectVanishingJumps(js.value, js.t, std::abs(inside.value), what + " (value)");
   expectVanishingJumps(js.grad, js.t, inside.grad.norm(), what + " (PK1)");
   expectVanishingJumps(js.hess, js.t, inside.hess.norm(), what + " (Hessian)");

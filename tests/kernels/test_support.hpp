@@ -79,6 +79,12 @@ class Rng {
   bool haveSpare_ = false;
 };
 
+// "3x3", "2x2" or "3x2": the element shape in test messages.
+template <int R, int C>
+constexpr const char *shapeTag() {
+  return (R == 3 && C == 3) ? "3x3" : (R == 2 ? "2x2" : "3x2");
+}
+
 template <int C>
 inline Vec<C> randomUnit(Rng &rng) {
   Vec<C> v;
