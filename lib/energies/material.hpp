@@ -50,6 +50,14 @@ const char *shapeName(ElementShape s);
 
 constexpr int kMaxDirections = 8;
 
+// Eigen's fixed-size vectors are not zeroed by value-initialization ({}): the unused directions would be copied
+// uninitialized with every Material.
+inline std::array<Eigen::Vector3d, kMaxDirections> zeroDirections() {
+  std::array<Eigen::Vector3d, kMaxDirections> d;
+  d.fill(Eigen::Vector3d::Zero());
+  return d;
+}
+
 struct Material {
   EnergyKind kind = EnergyKind::Iarap;
   double mu = 0.0, lambda = 0.0;  // Lame parameters
@@ -60,7 +68,7 @@ struct Material {
   Eigen::Matrix3d basis = Eigen::Matrix3d::Identity();
   Eigen::Vector3d basisCoeffs = Eigen::Vector3d::Zero();
   // Free directions for aniso.
-  std::array<Eigen::Vector3d, kMaxDirections> directions{};
+  std::array<Eigen::Vector3d, kMaxDirections> directions = zeroDirections();
   std::array<double, kMaxDirections> directionCoeffs{};
   int numDirections = 0;
   SingularityParams singularity;
