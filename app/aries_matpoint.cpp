@@ -45,16 +45,7 @@ const std::vector<core::OptionSection> &sections() {
 void printHelp() {
   std::printf("%s", kHelp);
   for (const auto &s : sections()) std::printf("%s", io::sectionHelpText(s).c_str());
-  std::printf("energies (-energy NAME) and their own options:\n");
-  for (const auto &e : energies::kEnergyRegistry) {
-    std::string shapes;
-    for (auto [on, tag] : {std::pair{e.tet, "tet"}, std::pair{e.planar, "planar"}, std::pair{e.cloth, "cloth"}})
-      if (on) shapes += (shapes.empty() ? "" : ", ") + std::string(tag);
-    std::printf("  %-12s [%s] %s\n", e.name, shapes.c_str(), e.summary);
-    for (int k = 0; k < e.numParams; ++k)
-      std::printf("      %s%s%s: %s\n", e.params[k].option, e.params[k].option2 ? ", " : "",
-                  e.params[k].option2 ? e.params[k].option2 : "", e.params[k].help);
-  }
+  std::printf("%s", io::energiesHelpText().c_str());
 }
 
 void printNumber(double x) {

@@ -18,13 +18,9 @@ std::string optionName(const char *prefix, const char *name);
 
 PetscErrorCode optionString(const char *prefix, const char *name, std::string *value, PetscBool *set);
 PetscErrorCode optionReal(const char *prefix, const char *name, PetscReal *value, PetscBool *set);
-PetscErrorCode optionInt(const char *prefix, const char *name, PetscInt *value, PetscBool *set);
-PetscErrorCode optionBool(const char *prefix, const char *name, PetscBool *value, PetscBool *set);
 // Comma-separated reals; `count` (if >= 0) demands exactly that many values, `countAlt` an alternative count.
 PetscErrorCode optionRealList(const char *prefix, const char *name, std::vector<PetscReal> *values, PetscBool *set,
                               int count = -1, int countAlt = -1);
-// Comma-separated words (ids or names).
-PetscErrorCode optionWordList(const char *prefix, const char *name, std::vector<std::string> *values, PetscBool *set);
 
 // Parses a finite real number; false if `text` is not one entirely.
 bool parseReal(const std::string &text, double *value);

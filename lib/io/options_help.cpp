@@ -178,18 +178,21 @@ std::string markdownTable(const std::string &key, const std::vector<core::Option
   return out;
 }
 
+std::string energiesHelpText(int width) {
+  std::string out = "Energies (-energy NAME; the registry, lib/energies/catalog/):\n";
+  for (const auto &e : energies::kEnergyRegistry) {
+    out += "  " + std::string(e.name) + " [" + shapesOf(e) + "]\n" + wrap(e.summary, "      ", width);
+    for (int k = 0; k < e.numParams; ++k)
+      out += wrap(paramUsage(e.params[k]) + ": " + e.params[k].help, "      ", width);
+  }
+  return out;
+}
+
 PetscErrorCode printOptionsHelp(MPI_Comm comm, int width) {
   PetscFunctionBeginUser;
   PetscCall(PetscPrintf(comm, "aries options ([default]; docs/options.md has the same tables and more):\n"));
   for (const auto &s : optionSections()) PetscCall(PetscPrintf(comm, "%s", sectionHelpText(s, width).c_str()));
-  PetscCall(PetscPrintf(comm, "Energies (-energy NAME; the registry, lib/energies/catalog/):\n"));
-  for (const auto &e : energies::kEnergyRegistry) {
-    PetscCall(PetscPrintf(comm, "  %s [%s]\n%s", e.name, shapesOf(e).c_str(), wrap(e.summary, "      ", width).c_str()));
-    for (int k = 0; k < e.numParams; ++k) {
-      const energies::ParamSpec &p = e.params[k];
-      PetscCall(PetscPrintf(comm, "%s", wrap(paramUsage(p) + ": " + p.help, "      ", width).c_str()));
-    }
-  }
+  PetscCall(PetscPrintf(comm, "%s", energiesHelpText(width).c_str()));
   PetscCall(PetscPrintf(comm, "Output fields (-output_fields):\n"));
   for (const auto &f : outputFields())
     PetscCall(PetscPrintf(comm, "  %s [%s, %d components]\n%s", f.name, f.perCell() ? "cell" : "vertex", f.components,

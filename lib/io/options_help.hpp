@@ -25,6 +25,8 @@ std::string optionDefault(const core::OptionDecl &d, bool markdown);
 
 // Plain text of a section for a -help listing: one usage line with its default, the help wrapped below it.
 std::string sectionHelpText(const core::OptionSection &s, int width = 110);
+// The energies of the registry with their shapes, definitions and own parameters, for a -help listing.
+std::string energiesHelpText(int width = 110);
 // Markdown tables: a section's options; the energies (name | shapes | definition); the energies' own parameters;
 // the output fields. `key` is a section key, or "energies", "energy_parameters", "output_fields".
 std::string markdownTable(const std::string &key, const std::vector<core::OptionSection> &extra = {});
