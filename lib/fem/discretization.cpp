@@ -21,7 +21,7 @@ double Discretization::characteristicModulus() const {
 }
 
 template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::setup(Mesh &mesh, double dt, bool detached) {
+PetscErrorCode DiscretizationT<R, C>::setup(Mesh &mesh, double dt) {
   PetscFunctionBeginUser;
   mesh_ = &mesh;
   dofs_ = R;
@@ -33,22 +33,81 @@ PetscErrorCode DiscretizationT<R, C>::setup(Mesh &mesh, double dt, bool detached
   PetscCall(vertexRestPositions(mesh, &rest));
   std::vector<PetscInt> bcFlag;
   PetscCall(markDirichlet(mesh, rest, &bcFlag));
-  if (detached) {  // the supports are read (and checked) but hold no vertex; no gravity
-    std::fill(bcFlag.begin(), bcFlag.end(), PETSC_MAX_INT);
-    dyn_.gravity.setZero();
-  }
   PetscCall(layoutDofs(mesh, rest, bcFlag));
   PetscCall(setupRestCells(mesh, regionLabels));
   PetscCall(setupCellData(mesh, regionCells, !regionLabels.empty()));
   PetscCall(setupMass(mesh));
-  PetscCall(setupTerms(mesh, dt, detached));
+  PetscCall(setupTerms(mesh, dt));
+  PetscFunctionReturn(0);
+}
+
+// The body without its supports (the detached start): this discretization's materials, rest cells, cell data (fibers,
+// regions, targets at the current step, the caricature field) and mass, copied rather than read or computed again;
+// the DOF layout on `mesh`'s DM (a DMClone of this one's: the same local cells and vertices) with every vertex free;
+// the elastic terms (and cloth bending) with no gravity and no contact. The barrier's fallback cells are not carried
+// over: the detached body is evaluated as read.
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::detachedCopy(Mesh &mesh, std::unique_ptr<Discretization> *out) const {
+  PetscInt pStart, pEnd;
+  PetscFunctionBeginUser;
+  auto d = std::make_unique<DiscretizationT<R, C>>();
+  d->mesh_ = &mesh;
+  d->dofs_ = R;
+  d->bc_ = bc_;
+  d->restMeasure_ = restMeasure_;
+  d->materials_ = materials_;
+  d->dyn_ = dyn_;
+  d->dyn_.gravity.setZero();
+  d->hessianFilter_ = hessianFilter_;
+  d->step_ = step_;
+  std::vector<Eigen::Vector3d> rest(verts_.size());
+  for (size_t v = 0; v < verts_.size(); ++v) rest[v] = verts_[v].rest;
+  PetscCall(DMPlexGetChart(mesh.dm, &pStart, &pEnd));
+  PetscCall(d->layoutDofs(mesh, rest, std::vector<PetscInt>(pEnd - pStart, PETSC_MAX_INT)));
+  d->cells_.cells() = cells_.cells();
+  d->cells_.cellData() = cells_.cellData();
+  d->restFibers_ = restFibers_;
+  d->targets_ = targets_;
+  d->mass_ = mass_;
+  d->keepOrientation_ = keepOrientation_;
+  d->terms_ = {&d->cells_};
+  if (hinges_) PetscCall(d->addBendingHinges(mesh, hinges_->stiffness()));
+  PetscCall(d->addInertiaGravity(mesh));
+  *out = std::move(d);
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::addBendingHinges(Mesh &mesh, double stiffness) {
+  PetscFunctionBeginUser;
+  hinges_ = std::make_unique<BendingHinges>(verts_, stiffness);
+  const auto opposite = [&](PetscInt cell, PetscInt v0, PetscInt v1) {
+    PetscInt o = -1;
+    for (PetscInt v : cells_.cells()[cell - mesh.cStart].vertex)
+      if (v != v0 && v != v1) o = v;
+    return o;
+  };
+  PetscCall(hinges_->build(mesh.dm, mesh.vStart, opposite));
+  terms_.push_back(hinges_.get());
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+PetscErrorCode DiscretizationT<R, C>::addInertiaGravity(const Mesh &mesh) {
+  PetscSection localSection;
+  PetscInt localSize;
+  PetscFunctionBeginUser;
+  PetscCall(DMGetLocalSection(mesh.dm, &localSection));
+  PetscCall(PetscSectionGetStorageSize(localSection, &localSize));
+  inertia_ = std::make_unique<InertiaGravity<R>>(verts_, mass_, dyn_.gravity, localSize);
+  terms_.push_back(inertia_.get());
   PetscFunctionReturn(0);
 }
 
 // The terms of the total potential, in assembly order: elastic cells, cloth bending hinges (-bending, surfaces in
 // 3D), contact with analytic obstacles (3D meshes), inertia and gravity. Options are read only where they apply.
 template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::setupTerms(Mesh &mesh, double dt, bool detached) {
+PetscErrorCode DiscretizationT<R, C>::setupTerms(Mesh &mesh, double dt) {
   PetscBool set = PETSC_FALSE;
   PetscFunctionBeginUser;
   terms_ = {&cells_};
@@ -58,17 +117,7 @@ PetscErrorCode DiscretizationT<R, C>::setupTerms(Mesh &mesh, double dt, bool det
   if constexpr (R == 3 && C == 2) {
     double bending = 0.0;
     PetscCall(core::get(opt::bending, &bending, &set));
-    if (bending > 0.0) {
-      hinges_ = std::make_unique<BendingHinges>(verts_, bending);
-      const auto opposite = [&](PetscInt cell, PetscInt v0, PetscInt v1) {
-        PetscInt o = -1;
-        for (PetscInt v : cells_.cells()[cell - mesh.cStart].vertex)
-          if (v != v0 && v != v1) o = v;
-        return o;
-      };
-      PetscCall(hinges_->build(mesh.dm, mesh.vStart, opposite));
-      terms_.push_back(hinges_.get());
-    }
+    if (bending > 0.0) PetscCall(addBendingHinges(mesh, bending));
   }
   if constexpr (R == 3) {
     // Default contact stiffness: the body's own stiffness at a vertex, so contact neither lets vertices sink deep
@@ -80,14 +129,9 @@ PetscErrorCode DiscretizationT<R, C>::setupTerms(Mesh &mesh, double dt, bool det
                                       : characteristicModulus() * std::pow(perVertex, 1.0 - 2.0 / C);
     contact_ = std::make_unique<ObstacleContact>(verts_);
     PetscCall(contact_->read(mesh, stiffness));
-    if (!contact_->empty() && !detached) terms_.push_back(contact_.get());
+    if (!contact_->empty()) terms_.push_back(contact_.get());
   }
-  PetscSection localSection;
-  PetscInt localSize;
-  PetscCall(DMGetLocalSection(mesh.dm, &localSection));
-  PetscCall(PetscSectionGetStorageSize(localSection, &localSize));
-  inertia_ = std::make_unique<InertiaGravity<R>>(verts_, mass_, dyn_.gravity, localSize);
-  terms_.push_back(inertia_.get());
+  PetscCall(addInertiaGravity(mesh));
   PetscFunctionReturn(0);
 }
 
@@ -210,24 +254,24 @@ bool Discretization::suspendVolumeTerms(bool suspend) {
   return changed;
 }
 
-PetscErrorCode Discretization::create(Mesh &mesh, double dt, std::unique_ptr<Discretization> *out, bool detached) {
+PetscErrorCode Discretization::create(Mesh &mesh, double dt, std::unique_ptr<Discretization> *out) {
   PetscFunctionBeginUser;
   switch (mesh.shape) {
     case ElementShape::Tet: {
       auto d = std::make_unique<DiscretizationT<3, 3>>();
-      PetscCall(d->setup(mesh, dt, detached));
+      PetscCall(d->setup(mesh, dt));
       *out = std::move(d);
       break;
     }
     case ElementShape::Planar: {
       auto d = std::make_unique<DiscretizationT<2, 2>>();
-      PetscCall(d->setup(mesh, dt, detached));
+      PetscCall(d->setup(mesh, dt));
       *out = std::move(d);
       break;
     }
     case ElementShape::Cloth: {
       auto d = std::make_unique<DiscretizationT<3, 2>>();
-      PetscCall(d->setup(mesh, dt, detached));
+      PetscCall(d->setup(mesh, dt));
       *out = std::move(d);
       break;
     }

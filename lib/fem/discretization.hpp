@@ -42,10 +42,12 @@ class Discretization {
   // Reads the material (global and -regions), -fiber_file, -density, -gravity and the boundary options; builds the
   // section, the rest data and the mass. `dt` is the time step of backward Euler (0 for static runs), the scale of
   // the contact stiffness's default. Collective.
-  // `detached`: the body without its supports, for the first phase of a static solve from a synthetic start
-  // (solver/detached_start.cpp): no Dirichlet vertices, and only the elastic terms (no gravity, no contact). Its
-  // mesh must carry its own DM (a DMClone of the supported one's), since the DOF layout is set on it.
-  static PetscErrorCode create(Mesh &mesh, double dt, std::unique_ptr<Discretization> *out, bool detached = false);
+  static PetscErrorCode create(Mesh &mesh, double dt, std::unique_ptr<Discretization> *out);
+  // The body without its supports, for the first phase of a static solve from a synthetic start
+  // (solver/detached_start.cpp): no Dirichlet vertices, only the elastic terms (no gravity, no contact), everything
+  // else copied from this one (nothing is read again). `mesh` must carry its own DM, a DMClone of this one's, since
+  // the DOF layout is set on it. Collective.
+  virtual PetscErrorCode detachedCopy(Mesh &mesh, std::unique_ptr<Discretization> *out) const = 0;
 
   DM dm() const { return mesh_->dm; }
   const Mesh &mesh() const { return *mesh_; }

@@ -30,7 +30,8 @@ class DiscretizationT final : public Discretization {
   using Cell = typename Cells::Cell;
   static constexpr int NV = Cells::NV;
 
-  PetscErrorCode setup(Mesh &mesh, double dt, bool detached);
+  PetscErrorCode setup(Mesh &mesh, double dt);
+  PetscErrorCode detachedCopy(Mesh &mesh, std::unique_ptr<Discretization> *out) const override;
 
   PetscErrorCode setStep(const StepState &step) override;
   PetscErrorCode fillBoundary(Vec xLocal) const override;
@@ -82,7 +83,9 @@ class DiscretizationT final : public Discretization {
   PetscErrorCode setupCellData(Mesh &mesh, const std::vector<UniformCellData> &regionCells, bool regions);
   PetscErrorCode setupActiveMaterials(Mesh &mesh);                                               // cell_data.cpp
   PetscErrorCode setupMass(const Mesh &mesh);                                                    // rest_geometry
-  PetscErrorCode setupTerms(Mesh &mesh, double dt, bool detached);                               // discretization
+  PetscErrorCode setupTerms(Mesh &mesh, double dt);                                              // discretization
+  PetscErrorCode addBendingHinges(Mesh &mesh, double stiffness);                                 // discretization
+  PetscErrorCode addInertiaGravity(const Mesh &mesh);                                            // discretization
   bool usesEnergy(energies::EnergyKind kind) const;  // by any region
   void updateTargets();
 

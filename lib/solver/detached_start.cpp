@@ -87,7 +87,7 @@ PetscErrorCode Simulation::detachedStart(NewtonResult *acc) {
   mesh.dm = nullptr;
   PetscCall(DMClone(disc_->dm(), &mesh.dm));
   std::unique_ptr<fem::Discretization> detached;
-  PetscCall(fem::Discretization::create(mesh, 0.0, &detached, true));
+  PetscCall(disc_->detachedCopy(mesh, &detached));
   fem::StepState step = disc_->step();
   step.dt = 0.0;
   step.prediction = nullptr;
@@ -105,8 +105,9 @@ PetscErrorCode Simulation::detachedStart(NewtonResult *acc) {
   NewtonResult result;
   {
     NewtonSolver newton;
-    PetscCall(newton.setup(*detached, false, 0.0, &newton_, "detached_"));
-    newton.setFloating(true);
+    NewtonOptions options;  // the main solver's, overridden by -detached_newton_tol, ...
+    PetscCall(readNewtonOptions(false, &opts_.newton, "detached_", &options));
+    PetscCall(newton.setup(*detached, options, false, 0.0, &newton_, "detached_", true));
     bool shapeStage = false;
     if (opts_.detachedShapeFirst) PetscCall(detached->stretchTermsFixShape(&shapeStage));
     if (shapeStage && detached->suspendVolumeTerms(true)) {

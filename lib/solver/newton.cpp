@@ -1,12 +1,11 @@
 #include "solver/newton.hpp"
 
 #include "core/options.hpp"
-#include "solver/solver_options.hpp"
 
 #include <string>
 
-// Setup, options and the solve loop of the projected Newton solver (newton.hpp); one iteration's callbacks, the
-// safeguard, the convergence tests and the subspace step are in newton_iteration.cpp.
+// Setup and the solve of the projected Newton solver (newton.hpp); the model callbacks and the hooks that run the
+// strategies around each line search are in newton_iteration.cpp, each strategy in its own *_step.cpp.
 namespace aries::solver {
 
 NewtonResult &NewtonResult::operator+=(const NewtonResult &o) {
@@ -25,16 +24,6 @@ NewtonResult &NewtonResult::operator+=(const NewtonResult &o) {
   barrierActiveCells = std::max(barrierActiveCells, o.barrierActiveCells);
   history.insert(history.end(), o.history.begin(), o.history.end());
   return *this;
-}
-
-const char *filterModeName(EigenFilterMode m) {
-  switch (m) {
-    case EigenFilterMode::Clamp: return "clamp";
-    case EigenFilterMode::Abs: return "abs";
-    case EigenFilterMode::Adaptive: return "adaptive";
-    case EigenFilterMode::None: return "none";
-  }
-  return "?";
 }
 
 std::string reasonName(const NewtonResult &r) {
@@ -64,12 +53,11 @@ std::string reasonName(const NewtonResult &r) {
 }
 
 NewtonSolver::~NewtonSolver() {
-  if (snes_) SNESDestroy(&snes_);
-  if (J_) MatDestroy(&J_);
-  for (Vec *v : {&work_, &invMass_, &prevX_, &newtonDir_})
+  steps_.clear();  // before the SNES: the convergence check holds its KSP test's context
+  if (ctx_.snes) SNESDestroy(&ctx_.snes);
+  if (ctx_.J) MatDestroy(&ctx_.J);
+  for (Vec *v : {&ctx_.work, &ctx_.invMass})
     if (*v) VecDestroy(v);
-  for (Vec &v : history_) VecDestroy(&v);
-  if (defaultKspCtx_) KSPConvergedDefaultDestroy(defaultKspCtx_);
 }
 
 // ---- setup --------------------------------------------------------------------------------------------------------
@@ -78,11 +66,11 @@ NewtonSolver::~NewtonSolver() {
 // algebraic multigrid (-pc_type gamg) builds its coarse spaces from them; other preconditioners ignore them.
 PetscErrorCode NewtonSolver::attachNearNullSpace() {
   PetscFunctionBeginUser;
-  if (nearNullspace_ == 1) PetscFunctionReturn(0);  // rigid|none
+  if (!opts_.rigidNearNullspace) PetscFunctionReturn(0);
   MatNullSpace nsp;
-  PetscCall(disc_->restPositions(work_));
-  PetscCall(rigidBodyModes(work_, disc_->dofsPerVertex(), &nsp));
-  PetscCall(MatSetNearNullSpace(J_, nsp));
+  PetscCall(ctx_.disc->restPositions(ctx_.work));
+  PetscCall(rigidBodyModes(ctx_.work, ctx_.disc->dofsPerVertex(), &nsp));
+  PetscCall(MatSetNearNullSpace(ctx_.J, nsp));
   PetscCall(MatNullSpaceDestroy(&nsp));
   PetscFunctionReturn(0);
 }
@@ -112,7 +100,7 @@ PetscErrorCode NewtonSolver::configureMultigrid() {
   PetscBool isGamg, userSet;
   const char *prefix;
   PetscFunctionBeginUser;
-  PetscCall(SNESGetKSP(snes_, &ksp));
+  PetscCall(SNESGetKSP(ctx_.snes, &ksp));
   PetscCall(KSPGetPC(ksp, &pc));
   PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCGAMG, &isGamg));
   if (!isGamg) PetscFunctionReturn(0);
@@ -124,61 +112,8 @@ PetscErrorCode NewtonSolver::configureMultigrid() {
 
 PetscErrorCode NewtonSolver::setTimeStep(double dt) {
   PetscFunctionBeginUser;
-  dt_ = dt;
-  stepTol_ = newtonTol_ * disc_->mesh().diagonal * (dynamic_ ? dt : 1.0);
-  PetscFunctionReturn(0);
-}
-
-kernels::EigenFilter NewtonSolver::initialFilter() const {
-  switch (filterMode_) {
-    case EigenFilterMode::Clamp: return kernels::EigenFilter::Clamp;
-    case EigenFilterMode::None: return kernels::EigenFilter::None;
-    case EigenFilterMode::Abs:
-    case EigenFilterMode::Adaptive: return kernels::EigenFilter::Abs;  // adaptive: no model to judge yet
-  }
-  return kernels::EigenFilter::Clamp;
-}
-
-// Defaults chosen by measurement (docs/results.md): backward Euler clamps (inertia keeps the system definite, and
-// clamping leaves the inverted elements' soft modes soft), static solves take absolute values (no inertia: clamped
-// Hessians of a scrambled body are near-singular); the subspace step is unlimited with inertia and limited to twice
-// the Newton step, after full steps only, without it (a static solve from a scramble can otherwise jump into another
-// basin, e.g. a folded body).
-PetscErrorCode NewtonSolver::readOptions(bool dynamic, const NewtonSolver *base, const char *prefix) {
-  const core::ReadContext at{prefix, dynamic ? "beuler" : "static", base != nullptr};
-  PetscFunctionBeginUser;
-  if (base) {  // start from the base solver's values; the prefixed options override them
-    newtonTol_ = base->newtonTol_;
-    alphaMin_ = base->alphaMin_;
-    filterMode_ = base->filterMode_;
-    analyticEigensystem_ = base->analyticEigensystem_;
-    adaptiveTol_ = base->adaptiveTol_;
-    subspace_ = base->subspace_;
-    subspaceMax_ = base->subspaceMax_;
-    rotation_ = base->rotation_;
-    forcing_ = base->forcing_;
-    nearNullspace_ = base->nearNullspace_;
-  }
-  PetscCall(core::get(opt::newtonTol, &newtonTol_, nullptr, at));
-  PetscCall(core::get(opt::alphaMin, &alphaMin_, nullptr, at));
-  PetscCall(core::getChoice(opt::psdProjection, &filterMode_, nullptr, at));
-  int eigensystem = analyticEigensystem_ ? 0 : 1;  // analytic|numeric
-  PetscCall(core::getChoice(opt::psdEigensystem, &eigensystem, nullptr, at));
-  analyticEigensystem_ = eigensystem == 0;
-  if (filterMode_ == EigenFilterMode::Adaptive) PetscCall(core::get(opt::psdAdaptiveTol, &adaptiveTol_, nullptr, at));
-  PetscCall(core::get(opt::newtonSubspace, &subspace_, nullptr, at));
-  if (subspace_ > 0) {
-    PetscCall(core::get(opt::newtonSubspaceMax, &subspaceMax_, nullptr, at));
-    if (subspaceMax_ > 0.0 && subspaceMax_ < 1.0)
-      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -newton_subspace_max must be 0 (no limit) or >= 1 (got %g)",
-              subspaceMax_);
-  }
-  PetscCall(core::get(opt::newtonRotation, &rotation_, nullptr, at));
-  PetscCall(core::get(opt::newtonForcing, &forcing_, nullptr, at));
-  PetscBool guess = PETSC_FALSE;
-  if (dynamic) PetscCall(core::get(opt::newtonInertiaGuess, &guess, nullptr, at));
-  useInertiaGuess_ = guess;
-  PetscCall(core::getChoice(opt::nearNullspace, &nearNullspace_, nullptr, at));
+  ctx_.dt = dt;
+  ctx_.stepTol = opts_.convergence.tol * ctx_.disc->mesh().diagonal * (ctx_.dynamic ? dt : 1.0);
   PetscFunctionReturn(0);
 }
 
@@ -195,14 +130,14 @@ PetscErrorCode NewtonSolver::copySolverSettings(const NewtonSolver &base) {
   PC pc, basePc;
   PCType pcType;
   PetscFunctionBeginUser;
-  PetscCall(SNESGetTolerances(base.snes_, &atol, &rtol, &stol, &maxit, &maxf));
-  PetscCall(SNESSetTolerances(snes_, atol, rtol, stol, maxit, maxf));
-  PetscCall(SNESGetLineSearch(base.snes_, &baseLs));
+  PetscCall(SNESGetTolerances(base.ctx_.snes, &atol, &rtol, &stol, &maxit, &maxf));
+  PetscCall(SNESSetTolerances(ctx_.snes, atol, rtol, stol, maxit, maxf));
+  PetscCall(SNESGetLineSearch(base.ctx_.snes, &baseLs));
   PetscCall(SNESLineSearchGetType(baseLs, &lsType));
-  PetscCall(SNESGetLineSearch(snes_, &ls));
+  PetscCall(SNESGetLineSearch(ctx_.snes, &ls));
   PetscCall(SNESLineSearchSetType(ls, lsType));
-  PetscCall(SNESGetKSP(base.snes_, &baseKsp));
-  PetscCall(SNESGetKSP(snes_, &ksp));
+  PetscCall(SNESGetKSP(base.ctx_.snes, &baseKsp));
+  PetscCall(SNESGetKSP(ctx_.snes, &ksp));
   PetscCall(KSPGetType(baseKsp, &kspType));
   PetscCall(KSPSetType(ksp, kspType));
   PetscCall(KSPGetTolerances(baseKsp, &krtol, &kabstol, &kdtol, &kmaxit));
@@ -214,107 +149,119 @@ PetscErrorCode NewtonSolver::copySolverSettings(const NewtonSolver &base) {
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode NewtonSolver::setup(fem::Discretization &disc, bool dynamic, double dt, const NewtonSolver *base,
-                                   const char *prefix) {
+PetscErrorCode NewtonSolver::setup(fem::Discretization &disc, const NewtonOptions &options, bool dynamic, double dt,
+                                   const NewtonSolver *base, const char *prefix, bool floating) {
   MPI_Comm comm;
   PetscBool set;
   PetscFunctionBeginUser;
-  disc_ = &disc;
-  dynamic_ = dynamic;
+  opts_ = options;
+  ctx_.disc = &disc;
+  ctx_.dynamic = dynamic;
+  ctx_.psdHessian = options.filter.mode != EigenFilterMode::None;
   DM dm = disc.dm();
   PetscCall(PetscObjectGetComm((PetscObject)dm, &comm));
-  PetscCall(PetscLogStageGetId("assembly", &assemblyStage_));
-  if (assemblyStage_ < 0) PetscCall(PetscLogStageRegister("assembly", &assemblyStage_));
-  PetscCall(readOptions(dynamic, base, prefix));
+  PetscCall(PetscLogStageGetId("assembly", &ctx_.assemblyStage));
+  if (ctx_.assemblyStage < 0) PetscCall(PetscLogStageRegister("assembly", &ctx_.assemblyStage));
   PetscCall(setTimeStep(dt));
 
-  PetscCall(SNESCreate(comm, &snes_));
-  if (prefix) PetscCall(SNESSetOptionsPrefix(snes_, prefix));
-  PetscCall(SNESSetDM(snes_, dm));
-  PetscCall(SNESSetType(snes_, SNESNEWTONLS));
+  PetscCall(SNESCreate(comm, &ctx_.snes));
+  SNES snes = ctx_.snes;
+  if (prefix) PetscCall(SNESSetOptionsPrefix(snes, prefix));
+  PetscCall(SNESSetDM(snes, dm));
+  PetscCall(SNESSetType(snes, SNESNEWTONLS));
   PetscCall(DMSNESSetBoundaryLocal(dm, boundaryLocal, this));
   PetscCall(DMSNESSetFunctionLocal(dm, functionLocal, this));
   PetscCall(DMSNESSetJacobianLocal(dm, jacobianLocal, this));
-  PetscCall(SNESSetObjective(snes_, objectiveCallback, this));
+  PetscCall(SNESSetObjective(snes, objectiveCallback, this));
   std::string matType;  // the discretization asks for BAIJ (bs = dofs per vertex); GAMG in PETSc 3.18 needs AIJ
   PetscCall(core::optionString(nullptr, "-dm_mat_type", &matType, &set));
   if (set) PetscCall(DMSetMatType(dm, matType.c_str()));
-  PetscCall(DMCreateMatrix(dm, &J_));
-  PetscCall(MatSetOption(J_, MAT_SYMMETRIC, PETSC_TRUE));
+  PetscCall(DMCreateMatrix(dm, &ctx_.J));
+  Mat J = ctx_.J;
+  PetscCall(MatSetOption(J, MAT_SYMMETRIC, PETSC_TRUE));
   PetscBool symmetricStorage;  // SBAIJ keeps the upper triangle: the element blocks below the diagonal are dropped
-  PetscCall(PetscObjectTypeCompareAny((PetscObject)J_, &symmetricStorage, MATSBAIJ, MATSEQSBAIJ, MATMPISBAIJ, ""));
-  if (symmetricStorage) PetscCall(MatSetOption(J_, MAT_IGNORE_LOWER_TRIANGULAR, PETSC_TRUE));
-  PetscCall(SNESSetJacobian(snes_, J_, J_, nullptr, nullptr));
-  PetscCall(DMCreateGlobalVector(dm, &work_));
-  PetscCall(VecDuplicate(work_, &prevX_));
-  PetscCall(VecDuplicate(work_, &newtonDir_));
-  history_.resize(subspace_);
-  for (Vec &v : history_) PetscCall(VecDuplicate(work_, &v));
+  PetscCall(PetscObjectTypeCompareAny((PetscObject)J, &symmetricStorage, MATSBAIJ, MATSEQSBAIJ, MATMPISBAIJ, ""));
+  if (symmetricStorage) PetscCall(MatSetOption(J, MAT_IGNORE_LOWER_TRIANGULAR, PETSC_TRUE));
+  PetscCall(SNESSetJacobian(snes, J, J, nullptr, nullptr));
+  PetscCall(DMCreateGlobalVector(dm, &ctx_.work));
   PetscCall(attachNearNullSpace());
   if (dynamic) {  // 1 / m per free dof (step bound, inertia guess) and the smallest mass
     PetscReal mmin;
-    PetscCall(VecDuplicate(work_, &invMass_));
-    PetscCall(disc.lumpedMass(invMass_));
-    PetscCall(VecMin(invMass_, nullptr, &mmin));
-    minMass_ = mmin;
-    PetscCall(VecReciprocal(invMass_));
+    PetscCall(VecDuplicate(ctx_.work, &ctx_.invMass));
+    PetscCall(disc.lumpedMass(ctx_.invMass));
+    PetscCall(VecMin(ctx_.invMass, nullptr, &mmin));
+    ctx_.minMass = mmin;
+    PetscCall(VecReciprocal(ctx_.invMass));
   }
+
+  // The strategies, in the order they run (newton_steps.hpp); those the options switch off are not created.
+  if (floating) steps_.push_back(std::make_unique<RigidMotionRemoval>());
+  auto check = std::make_unique<ConvergenceCheck>(opts_.convergence);
+  check_ = check.get();
+  steps_.push_back(std::move(check));
+  if (opts_.subspace.size > 0) steps_.push_back(std::make_unique<SubspaceStep>(opts_.subspace));
+  if (opts_.rotation.doublings >= 0) steps_.push_back(std::make_unique<RotationalUpdate>(opts_.rotation));
+  steps_.push_back(std::make_unique<HessianFilter>(opts_.filter));
+  auto safeguard = std::make_unique<AlphaSafeguard>(opts_.safeguard);
+  safeguard_ = safeguard.get();
+  steps_.push_back(std::move(safeguard));
 
   // Defaults (overridable by -snes_*, -ksp_*, -pc_*).
   // rtol = 0: a residual small relative to the initial one is not equilibrium (a scrambled start has a huge one).
   // stol = 0: a step shortened by the alpha safeguard must not read as convergence.
-  PetscCall(SNESSetTolerances(snes_, 0.0, 0.0, 0.0, 500, PETSC_DEFAULT));
-  PetscCall(SNESSetMaxLinearSolveFailures(snes_, PETSC_MAX_INT));  // an unconverged CG direction is still tried
+  PetscCall(SNESSetTolerances(snes, 0.0, 0.0, 0.0, 500, PETSC_DEFAULT));
+  PetscCall(SNESSetMaxLinearSolveFailures(snes, PETSC_MAX_INT));  // an unconverged CG direction is still tried
   KSP ksp;
   PC pc;
-  PetscCall(SNESGetKSP(snes_, &ksp));
+  PetscCall(SNESGetKSP(snes, &ksp));
   PetscCall(KSPSetType(ksp, KSPCG));
   PetscCall(KSPGetPC(ksp, &pc));
   PetscCall(PCSetType(pc, PCJACOBI));
   PetscCall(KSPSetTolerances(ksp, 1e-6, PETSC_DEFAULT, PETSC_DEFAULT, 10000));
   SNESLineSearch ls;
-  PetscCall(SNESGetLineSearch(snes_, &ls));
+  PetscCall(SNESGetLineSearch(snes, &ls));
   PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHBT));
-  PetscCall(SNESSetConvergenceTest(snes_, convergenceTest, this, nullptr));
+  PetscCall(SNESSetConvergenceTest(snes, convergenceTest, this, nullptr));
   if (base) PetscCall(copySolverSettings(*base));
-  PetscCall(SNESSetFromOptions(snes_));
-  PetscCall(KSPGetTolerances(ksp, &baseRtol_, nullptr, nullptr, nullptr));
-  PetscCall(KSPConvergedDefaultCreate(&defaultKspCtx_));
-  PetscCall(KSPSetConvergenceTest(ksp, linearConvergence, this, nullptr));
+  PetscCall(SNESSetFromOptions(snes));
+  PetscCall(check_->setup(ctx_));
   PetscCall(configureMultigrid());
   // Hooks after SetFromOptions so a user-chosen line search type keeps them.
-  PetscCall(SNESGetLineSearch(snes_, &ls));
+  PetscCall(SNESGetLineSearch(snes, &ls));
   PetscCall(SNESLineSearchSetPreCheck(ls, preCheck, this));
   PetscCall(SNESLineSearchSetPostCheck(ls, postCheck, this));
   PetscFunctionReturn(0);
+}
+
+std::vector<std::string> NewtonSolver::stepNames() const {
+  std::vector<std::string> names;
+  for (const auto &step : steps_) names.emplace_back(step->name());
+  return names;
 }
 
 PetscErrorCode NewtonSolver::solve(Vec x, NewtonResult *result) {
   KSP ksp;
   PetscInt kspBefore, kspAfter;
   PetscFunctionBeginUser;
-  cur_ = NewtonResult{};
+  NewtonResult &cur = ctx_.result;
+  cur = NewtonResult{};
   havePending_ = false;
-  historyCount_ = 0;
-  lastFull_ = false;
-  disc_->setEigenFilter(initialFilter());
-  disc_->setAnalyticEigensystem(analyticEigensystem_);
-  PetscCall(SNESGetKSP(snes_, &ksp));
+  for (auto &step : steps_) PetscCall(step->beginSolve(ctx_));
+  PetscCall(SNESGetKSP(ctx_.snes, &ksp));
   PetscCall(KSPGetTotalIterations(ksp, &kspBefore));
-  PetscCall(SNESSolve(snes_, nullptr, x));
+  PetscCall(SNESSolve(ctx_.snes, nullptr, x));
   PetscCall(KSPGetTotalIterations(ksp, &kspAfter));
   Vec g;  // the residual after the final correction (SNES keeps the norm from before it)
-  PetscCall(SNESGetFunction(snes_, &g, nullptr, nullptr));
-  PetscCall(VecNorm(g, NORM_2, &cur_.residualNorm));
-  cur_.linearIterations = kspAfter - kspBefore;  // SNES keeps a stale count when it converges at iteration 0
-  PetscCall(SNESGetConvergedReason(snes_, &cur_.reason));
-  if (cur_.reason <= 0) cur_.convergence = Convergence::None;
+  PetscCall(SNESGetFunction(ctx_.snes, &g, nullptr, nullptr));
+  PetscCall(VecNorm(g, NORM_2, &cur.residualNorm));
+  cur.linearIterations = kspAfter - kspBefore;  // SNES keeps a stale count when it converges at iteration 0
+  PetscCall(SNESGetConvergedReason(ctx_.snes, &cur.reason));
+  if (cur.reason <= 0) cur.convergence = Convergence::None;
   if (havePending_) {  // the last line search failed: keep its record
-    cur_.history.push_back(pending_);
+    cur.history.push_back(pending_.record);
     havePending_ = false;
   }
-  *result = cur_;
-  halvingsTotal_ += cur_.safeguardHalvings;
+  *result = cur;
   PetscFunctionReturn(0);
 }
 

@@ -50,6 +50,7 @@ PetscErrorCode readSimulationOptions(SimulationOptions *o) {
   }
   PetscCall(core::getChoice(opt::onFailure, &o->onFailure));
   if (o->onFailure == FailurePolicy::HalveDt) PetscCall(core::get(opt::maxStepHalvings, &o->maxStepHalvings));
+  PetscCall(readNewtonOptions(o->integrator == Integrator::BackwardEuler, nullptr, nullptr, &o->newton));
   PetscFunctionReturn(0);
 }
 
@@ -65,7 +66,7 @@ PetscErrorCode Simulation::setup(fem::Discretization &disc, const SimulationOpti
   opts_ = opts;
   PetscCall(PetscObjectGetComm((PetscObject)disc.dm(), &comm));
   const bool dynamic = opts.integrator == Integrator::BackwardEuler;
-  PetscCall(newton_.setup(disc, dynamic, opts.dt));
+  PetscCall(newton_.setup(disc, opts.newton, dynamic, opts.dt));
   PetscCall(DMCreateGlobalVector(disc.dm(), &x_));
   PetscCall(PetscObjectSetName((PetscObject)x_, "positions"));
   for (Vec *v : {&v_, &xPrev_, &vPrev_, &xTilde_}) PetscCall(VecDuplicate(x_, v));

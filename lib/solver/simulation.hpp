@@ -32,8 +32,11 @@ struct SimulationOptions {
   bool predictorStart = false;  // -predictor_start (backward Euler; on by default there)
   bool detachedStart = false;   // -static_detached_start (static runs from a synthetic start; on by default there)
   bool detachedShapeFirst = true;  // -static_detached_shape_first: the detached relaxation starts without volume terms
+  NewtonOptions newton;            // the Newton solver's (newton_options.hpp); the detached start's own are read
+                                   // when it begins (prefix detached_, starting from these)
 };
 
+// Reads every option of the solver layer (the Newton solver's too) into plain data before anything is set up.
 PetscErrorCode readSimulationOptions(SimulationOptions *opts);
 
 struct RunSummary {

@@ -26,6 +26,7 @@ class BendingHinges final : public Term {
   // of the DM's cell stratum) that is not on the edge.
   PetscErrorCode build(DM dm, PetscInt vStart, const std::function<PetscInt(PetscInt, PetscInt, PetscInt)> &opposite);
   const char *name() const override { return "bending hinges"; }
+  double stiffness() const { return stiffness_; }
   void addEnergy(const PetscScalar *x, double *energy, double *magnitude) const override;
   void addGradient(const PetscScalar *x, PetscScalar *g) const override;
   PetscErrorCode addHessian(const PetscScalar *x, const HessianAssembly &how, Mat J) const override;

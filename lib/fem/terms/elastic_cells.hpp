@@ -39,6 +39,7 @@ class ElasticCells final : public Term {
   size_t size() const { return cells_.size(); }
   // Anisotropy data: one entry shared by all cells, or one per cell.
   std::vector<energies::CellData<C>> &cellData() { return cellData_; }
+  const std::vector<energies::CellData<C>> &cellData() const { return cellData_; }
   bool dataShared() const { return cellData_.size() == 1; }
   const energies::CellData<C> &dataOf(size_t c) const { return cellData_.size() == 1 ? cellData_[0] : cellData_[c]; }
   // The material a cell is evaluated with: its region's, or the mollified copy where the barrier fell back.

@@ -1,0 +1,44 @@
+#include "solver/newton_options.hpp"
+
+#include "core/options.hpp"
+#include "solver/solver_options.hpp"
+
+namespace aries::solver {
+
+// Defaults chosen by measurement (docs/results.md): backward Euler clamps (inertia keeps the system definite, and
+// clamping leaves the inverted elements' soft modes soft), static solves take absolute values (no inertia: clamped
+// Hessians of a scrambled body are near-singular); the subspace step is unlimited with inertia and limited to twice
+// the Newton step, after full steps only, without it (a static solve from a scramble can otherwise jump into another
+// basin, e.g. a folded body). An option only read where it applies (-psd_adaptive_tol with the adaptive filter,
+// -newton_subspace_max with a subspace step, -newton_inertia_guess for backward Euler) is reported unused elsewhere.
+PetscErrorCode readNewtonOptions(bool dynamic, const NewtonOptions *base, const char *prefix, NewtonOptions *o) {
+  const core::ReadContext at{prefix, dynamic ? "beuler" : "static", base != nullptr};
+  PetscFunctionBeginUser;
+  *o = base ? *base : NewtonOptions{};
+  PetscCall(core::get(opt::newtonTol, &o->convergence.tol, nullptr, at));
+  PetscCall(core::get(opt::alphaMin, &o->safeguard.alphaMin, nullptr, at));
+  PetscCall(core::getChoice(opt::psdProjection, &o->filter.mode, nullptr, at));
+  int eigensystem = o->filter.analyticEigensystem ? 0 : 1;  // analytic|numeric
+  PetscCall(core::getChoice(opt::psdEigensystem, &eigensystem, nullptr, at));
+  o->filter.analyticEigensystem = eigensystem == 0;
+  if (o->filter.mode == EigenFilterMode::Adaptive)
+    PetscCall(core::get(opt::psdAdaptiveTol, &o->filter.adaptiveTol, nullptr, at));
+  PetscCall(core::get(opt::newtonSubspace, &o->subspace.size, nullptr, at));
+  if (o->subspace.size > 0) {
+    PetscCall(core::get(opt::newtonSubspaceMax, &o->subspace.maxCoefficient, nullptr, at));
+    if (o->subspace.maxCoefficient > 0.0 && o->subspace.maxCoefficient < 1.0)
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -%snewton_subspace_max must be 0 (no limit) or >= 1 (got %g)",
+              prefix ? prefix : "", o->subspace.maxCoefficient);
+  }
+  PetscCall(core::get(opt::newtonRotation, &o->rotation.doublings, nullptr, at));
+  PetscCall(core::get(opt::newtonForcing, &o->convergence.forcing, nullptr, at));
+  PetscBool guess = PETSC_FALSE;
+  if (dynamic) PetscCall(core::get(opt::newtonInertiaGuess, &guess, nullptr, at));
+  o->inertiaGuess = guess;
+  int nullspace = o->rigidNearNullspace ? 0 : 1;  // rigid|none
+  PetscCall(core::getChoice(opt::nearNullspace, &nullspace, nullptr, at));
+  o->rigidNearNullspace = nullspace == 0;
+  PetscFunctionReturn(0);
+}
+
+}  // namespace aries::solver

@@ -1,0 +1,55 @@
+// The Newton solver's options as plain data, one struct per strategy (newton_steps.hpp), read once
+// (readNewtonOptions) from the declarations in solver_options.hpp before the solver is set up.
+#pragma once
+
+#include <petscsys.h>
+
+namespace aries::solver {
+
+enum class EigenFilterMode { Clamp, Abs, Adaptive, None };
+
+// ConvergenceCheck: -newton_tol, -newton_forcing.
+struct ConvergenceOptions {
+  double tol = 1e-4;      // the step tolerance is tol * L (* dt for backward Euler)
+  double forcing = 0.0;   // inexact Newton's relative residual (0: off)
+};
+
+// HessianFilter: -psd_projection, -psd_eigensystem, -psd_adaptive_tol.
+struct FilterOptions {
+  EigenFilterMode mode = EigenFilterMode::Clamp;
+  bool analyticEigensystem = true;
+  double adaptiveTol = 0.01;
+};
+
+// SubspaceStep: -newton_subspace, -newton_subspace_max.
+struct SubspaceOptions {
+  PetscInt size = 1;             // previous updates combined with the Newton direction (0: off)
+  double maxCoefficient = 0.0;   // limit of the Newton direction's coefficient (0: none)
+};
+
+// RotationalUpdate: -newton_rotation.
+struct RotationOptions {
+  PetscInt doublings = -1;  // -1: off, else the number of angle doublings tried
+};
+
+// AlphaSafeguard: -alpha_min.
+struct SafeguardOptions {
+  double alphaMin = 1e-6;
+};
+
+struct NewtonOptions {
+  ConvergenceOptions convergence;
+  FilterOptions filter;
+  SubspaceOptions subspace;
+  RotationOptions rotation;
+  SafeguardOptions safeguard;
+  bool inertiaGuess = false;       // -newton_inertia_guess (backward Euler)
+  bool rigidNearNullspace = true;  // -near_nullspace rigid|none
+};
+
+// Reads the Newton options for a static (`dynamic` false) or backward-Euler run. `base` and `prefix`: the options of
+// a solver for a phase of its own (the detached start, prefix "detached_") start from `base` and are overridden by
+// the same options under the prefix (-detached_newton_tol, ...).
+PetscErrorCode readNewtonOptions(bool dynamic, const NewtonOptions *base, const char *prefix, NewtonOptions *out);
+
+}  // namespace aries::solver

@@ -1,0 +1,215 @@
+// The strategies of the projected Newton solver (newton.hpp), each an object with its own options
+// (newton_options.hpp) and state, run by NewtonSolver in this order on every direction, before the line search:
+//
+//   1. RigidMotionRemoval  a floating body (the detached start): the direction's rigid-motion share is removed
+//   2. ConvergenceCheck    the convergence test on the Newton direction (paper Sec. 6), the step bound of backward
+//                          Euler, the inexact linear solve's stop (-newton_tol, -newton_forcing)
+//   3. SubspaceStep        the exact quadratic model minimized over the direction and the last updates
+//                          (-newton_subspace, -newton_subspace_max)
+//   4. RotationalUpdate    rotational parts of the step follow the circle (-newton_rotation)
+//   5. HessianFilter       the element Hessians' eigenvalue filter; the adaptive one's curvature of the update and
+//                          its choice after it (-psd_projection, -psd_eigensystem, -psd_adaptive_tol)
+//   6. AlphaSafeguard      no step takes a guarded element's alpha below -alpha_min (paper Sec. 4.2)
+//
+// A direction the convergence check accepts is the step's final correction: only the steps that apply to one run
+// on it (the safeguard); one accepted by round-off is not applied, and nothing runs after the check. After each line
+// search every step may pull the accepted point back (checkPoint, the safeguard); after each update every step
+// sees its length (finishUpdate: the subspace step's limit, the adaptive filter's choice).
+// Steps that do nothing under the options are not created: the chain is the set of strategies a solve runs.
+#pragma once
+
+#include "fem/discretization.hpp"
+#include "solver/convergence_rule.hpp"
+#include "solver/newton_options.hpp"
+
+#include <petscsnes.h>
+
+#include <vector>
+
+namespace aries::solver {
+
+// One Newton iteration, for -newton_history and the convergence charts.
+struct IterationRecord {
+  PetscInt iteration = 0;
+  double energy = 0.0;      // total potential at the iterate
+  double residual = 0.0;    // |gradient|_2 over the free dofs
+  double stepInf = 0.0;     // |Newton step|_inf (before acceleration and line search)
+  double lambda = 0.0;      // length of the step applied from this iterate: the line search's, or the final
+                            // correction's on a converged row (1, halved by the safeguard); 0: nothing applied
+  PetscInt linearIterations = 0;
+  char filter = 'c';        // element Hessian filter of this iteration: c(lamp), a(bs), n(one)
+  bool accelerated = false; // the update used the subspace step
+  double rotation = 0.0;    // the rotational update's angle scale (1, 2, 4, ...; 0: plain direction)
+};
+
+struct NewtonResult {
+  PetscInt newtonIterations = 0;   // updates of the state (line searches that moved it)
+  PetscInt linearSolves = 0;       // Newton systems solved (one per direction, including the converging one)
+  PetscInt linearIterations = 0;   // Krylov iterations over all of them
+  PetscInt linearAtLimit = 0;      // linear solves stopped by -ksp_max_it (their direction is not a Newton step)
+  PetscInt safeguardHalvings = 0;
+  SNESConvergedReason reason = SNES_CONVERGED_ITERATING;
+  Convergence convergence = Convergence::None;
+  PetscInt barrierFallbackCells = 0;  // cells evaluated with the mollifier in barrier mode (alpha ~ 0)
+  PetscInt barrierActiveCells = 0;    // cells with an active aberration barrier (0 < alpha < eps) at the step start
+  PetscReal residualNorm = 0.0;       // |gradient of the potential|_2 over the free dofs at the last iterate
+  std::vector<IterationRecord> history;
+  bool converged() const { return reason > 0; }
+  NewtonResult &operator+=(const NewtonResult &o);  // sums the counters, keeps o's outcome, appends its history
+};
+
+// What every step shares: the model (discretization, SNES, Jacobian), the time step and the solve in progress.
+struct NewtonContext {
+  fem::Discretization *disc = nullptr;
+  SNES snes = nullptr;
+  Mat J = nullptr;
+  Vec work = nullptr;     // scratch, free for any step between calls
+  Vec invMass = nullptr;  // backward Euler: 1 / m per free dof
+  double minMass = 0.0;
+  bool dynamic = false;
+  double dt = 0.0;
+  double stepTol = 0.0;   // the converged step's inf-norm
+  bool psdHessian = true; // the element Hessians are filtered to be PSD (the backward-Euler step bound needs it)
+  PetscLogStage assemblyStage = -1;
+  NewtonResult result;    // the solve in progress
+
+  PetscErrorCode energyAt(Vec x, PetscReal *value, PetscReal *magnitude);  // total potential at a global state
+  // G_kl = d_k^T H d_l with the exact (unfiltered) Hessian at X.
+  PetscErrorCode gram(Vec X, const std::vector<Vec> &directions, std::vector<double> *G);
+  // Backward Euler's bound on |H^-1 g|_inf (infinite where none holds).
+  PetscErrorCode stepBound(Vec g, PetscReal *bound);
+  void declareConverged(Convergence how);
+};
+
+// The direction of the iteration in progress, from the linear solve to the end of its line search. The line search
+// steps from X to X - lambda Y; g . Y is the slope.
+struct Direction {
+  PetscInt iteration = 0;
+  IterationRecord record;
+  double energyBefore = 0.0;   // energy at X
+  double slope = 0.0;          // g . Y
+  double curvature = 0.0;      // Y^T H Y with the exact Hessian, when known
+  bool haveCurvature = false;
+  bool halved = false;         // the safeguard shortened it
+  double postScale = 1.0;      // the share of the line search's length the safeguard kept
+  bool finalCorrection = false;  // converged: the small step is applied without a line search
+  bool discarded = false;        // converged by round-off: nothing applied, nothing more runs
+};
+
+class NewtonStep {
+ public:
+  virtual ~NewtonStep() = default;
+  virtual const char *name() const = 0;
+  virtual bool appliesToFinalCorrection() const { return false; }
+  virtual PetscErrorCode beginSolve(NewtonContext &) { return 0; }
+  // Before the line search: may change the direction Y (then *changed = true).
+  virtual PetscErrorCode shapeDirection(NewtonContext &ctx, Direction &d, Vec X, Vec Y, Vec F, PetscBool *changed) = 0;
+  // After the line search, on its accepted point W (may move it towards X).
+  virtual PetscErrorCode checkPoint(NewtonContext &, Direction &, Vec /*X*/, Vec /*W*/, PetscBool * /*changed*/) {
+    return 0;
+  }
+  // After an update of length lambda (the line search's times the safeguard's share) to xNew.
+  virtual PetscErrorCode finishUpdate(NewtonContext &, const Direction &, Vec /*xNew*/, double /*lambda*/) {
+    return 0;
+  }
+};
+
+// 1. A body without supports: its energy is invariant under rigid motions, so the direction's rigid-motion share
+// (which CG on the singular system leaves undetermined) is removed before the convergence test and the line search.
+class RigidMotionRemoval final : public NewtonStep {
+ public:
+  const char *name() const override { return "rigid_motion_removal"; }
+  PetscErrorCode shapeDirection(NewtonContext &ctx, Direction &d, Vec X, Vec Y, Vec F, PetscBool *changed) override;
+};
+
+// 2. Is the state converged on the Newton direction? Also the convergence test at each iterate (backward Euler's
+// step bound, certified without a linear solve) and the inexact linear solve's stop.
+class ConvergenceCheck final : public NewtonStep {
+ public:
+  explicit ConvergenceCheck(const ConvergenceOptions &o) : opts_(o) {}
+  ~ConvergenceCheck() override;
+  const char *name() const override { return "convergence_check"; }
+  PetscErrorCode setup(NewtonContext &ctx);  // after SNESSetFromOptions: the KSP's tolerance and test
+  double tolerance() const { return opts_.tol; }
+  PetscErrorCode shapeDirection(NewtonContext &ctx, Direction &d, Vec X, Vec Y, Vec F, PetscBool *changed) override;
+  // At iterate `it` whose residual g has norm fnorm: converged by the step bound? (sets *reason)
+  PetscErrorCode testIterate(NewtonContext &ctx, PetscInt it, PetscReal fnorm, SNESConvergedReason *reason);
+
+ private:
+  static PetscErrorCode linearTest(KSP, PetscInt, PetscReal, KSPConvergedReason *, void *);
+  ConvergenceOptions opts_;
+  NewtonContext *ctx_ = nullptr;
+  PetscReal baseRtol_ = 1e-6;    // the linear solve's tolerance without forcing (certifying solves)
+  void *defaultKspCtx_ = nullptr;
+  double rnorm0_ = 0.0;          // reference of the linear solve's relative residual
+  bool forcingStopped_ = false;  // the last linear solve stopped early
+  bool forcingOn_ = true;        // off during a certifying solve
+};
+
+// 3. Subspace step: the update minimizes the true quadratic model (exact Hessian) over span{Newton direction, last
+// m updates}.
+class SubspaceStep final : public NewtonStep {
+ public:
+  explicit SubspaceStep(const SubspaceOptions &o) : opts_(o) {}
+  ~SubspaceStep() override;
+  const char *name() const override { return "subspace_step"; }
+  PetscErrorCode beginSolve(NewtonContext &ctx) override;
+  PetscErrorCode shapeDirection(NewtonContext &ctx, Direction &d, Vec X, Vec Y, Vec F, PetscBool *changed) override;
+  PetscErrorCode finishUpdate(NewtonContext &ctx, const Direction &d, Vec xNew, double lambda) override;
+
+ private:
+  SubspaceOptions opts_;
+  std::vector<Vec> updates_;  // previous updates of this solve, newest first
+  Vec prevX_ = nullptr, newtonDir_ = nullptr;
+  PetscInt count_ = 0;        // updates held
+  bool lastFull_ = false;     // the previous update was a full, unshortened step
+};
+
+// 4. Rotational update: where the direction is locally a rotation, each vertex follows the circle by the same angle;
+// up to K doublings of the angle are tried while the energy falls.
+class RotationalUpdate final : public NewtonStep {
+ public:
+  explicit RotationalUpdate(const RotationOptions &o) : opts_(o) {}
+  const char *name() const override { return "rotational_update"; }
+  PetscErrorCode shapeDirection(NewtonContext &ctx, Direction &d, Vec X, Vec Y, Vec F, PetscBool *changed) override;
+
+ private:
+  RotationOptions opts_;
+};
+
+// 5. The element Hessians' eigenvalue filter; adaptive: clamp or abs per iteration by the trust-region ratio of the
+// previous update (Chen et al. 2024).
+class HessianFilter final : public NewtonStep {
+ public:
+  explicit HessianFilter(const FilterOptions &o) : opts_(o) {}
+  const char *name() const override { return "hessian_filter"; }
+  PetscErrorCode beginSolve(NewtonContext &ctx) override;
+  PetscErrorCode shapeDirection(NewtonContext &ctx, Direction &d, Vec X, Vec Y, Vec F, PetscBool *changed) override;
+  PetscErrorCode finishUpdate(NewtonContext &ctx, const Direction &d, Vec xNew, double lambda) override;
+
+ private:
+  FilterOptions opts_;
+};
+
+// 6. The alpha safeguard (paper Sec. 4.2): the direction is halved until the full step keeps every guarded element's
+// alpha at or above -alpha_min, and so is any point a line search accepts.
+class AlphaSafeguard final : public NewtonStep {
+ public:
+  explicit AlphaSafeguard(const SafeguardOptions &o) : opts_(o) {}
+  const char *name() const override { return "alpha_safeguard"; }
+  bool appliesToFinalCorrection() const override { return true; }
+  double alphaMin() const { return opts_.alphaMin; }
+  PetscErrorCode shapeDirection(NewtonContext &ctx, Direction &d, Vec X, Vec Y, Vec F, PetscBool *changed) override;
+  PetscErrorCode checkPoint(NewtonContext &ctx, Direction &d, Vec X, Vec W, PetscBool *changed) override;
+  // alpha check of a state against reference alphas (the state before the step): true unless a guarded cell ends
+  // below alpha_min (or any alpha is NaN). A cell is guarded when its reference alpha is at or above the top of its
+  // singular band (newton.hpp).
+  PetscErrorCode acceptable(NewtonContext &ctx, Vec xGlobal, const std::vector<double> &reference, bool *ok);
+  static PetscErrorCode alphasAt(NewtonContext &ctx, Vec xGlobal, std::vector<double> *alpha);
+
+ private:
+  SafeguardOptions opts_;
+  std::vector<double> alphaRef_, bandTop_;
+};
+
+}  // namespace aries::solver
