@@ -108,9 +108,11 @@ PetscErrorCode run(int *exitCode) {
   PetscCall(io::readCheckpointOptions(outOpts.output, &ckOpts));
   fem::Mesh mesh;
   PetscCall(fem::loadMesh(comm, &mesh));
+  fem::FemOptions femOpts;
+  PetscCall(fem::readFemOptions(mesh, &femOpts));
   std::unique_ptr<fem::Discretization> disc;
   PetscCall(fem::Discretization::create(
-      mesh, simOpts.integrator == solver::Integrator::BackwardEuler ? simOpts.dt : 0.0, &disc));
+      mesh, femOpts, simOpts.integrator == solver::Integrator::BackwardEuler ? simOpts.dt : 0.0, &disc));
   solver::Simulation sim;
   PetscCall(sim.setup(*disc, simOpts));
   PetscInt resumeStep = -1;

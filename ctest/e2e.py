@@ -367,7 +367,8 @@ def case_detached_start():
     with its supports from the start (-static_detached_start false), the body gathers turned against its feet and
     the twisted legs hold it: step 1 converges at ~1 L from rest (1.018 L when this test was written), a local
     minimum of the elastic energy. With the detached start (the default) the body relaxes without its supports, is
-    moved rigidly onto them and is at rest (<= 1e-3 L), in at most 60 Newton updates (32 on 1 and 2 ranks).
+    moved rigidly onto them and is at rest (<= 1e-3 L), in at most 60 Newton updates (32 on 1 and 2 ranks). The
+    detached body copies the supported one's data: a caricature scramble computes its surface field once.
 
     The relaxation's shape stage (-static_detached_shape_first, default): without the volume terms the first update
     gathers the scrambled body (the energy falls >= 10x; 79x on 1 and 2 ranks, against 3.7x for the full energy's first
@@ -428,6 +429,20 @@ def case_detached_start():
     if len(blocks) != 3 or max(len(blocks[0]), len(blocks[1])) > 2 or rows[0]["reason"] != "newton_step":
         fail("with -detached_snes_max_it 1 each detached solve should stop after one update and the supported solve "
              "converge: %s rows per solve, reason %s" % ([len(b) for b in blocks], rows[0]["reason"]))
+    # The detached body is a copy of the supported one (Discretization::detachedCopy): nothing is read or computed
+    # again. The caricature's per-cell field (the rest surface's curvature, a Laplace solve) is computed once per run.
+    car = static_scramble_args(mesh("bunny"), 1, 1)
+    car[car.index("iarap")] = "caricature"
+    log, _ = run(car + ["-beta", "0.3", "-stats", out_base(tag + "_caricature") + ".csv", "-newton_history",
+                        out_base(tag + "_caricature") + "_newton.csv"], expect_code=None, tag=tag + "_caricature")
+    blocks = solve_blocks(out_base(tag + "_caricature") + "_newton.csv")
+    computed = log.count("aries: caricature field:")
+    print("caricature scramble: %d solves in step 1 (%s), caricature field computed %d time(s)"
+          % (len(blocks), stats(out_base(tag + "_caricature") + ".csv")[0]["reason"], computed))
+    if len(blocks) < 2:
+        fail("precondition: the detached start did not run (%d solves in step 1)" % len(blocks))
+    if computed != 1:
+        fail("the caricature field was computed %d times; the detached body must copy it" % computed)
 
 
 def translated_mesh(msh, offset, name):

@@ -4,6 +4,8 @@
 //   flags                    stretch (has I4/I6 terms: -singularity applies), fibers (reads the fiber a, and b on
 //                            cloth), basis (an orthonormal basis from -fiber/-fiber2), volume (lambda/2 (J - J0)^2),
 //                            shear (tets/planar: needs mu > 0), mu2 (cloth: reads -mu2)
+//   cellField                a per-cell field the solver computes from the mesh for it (CellField: shape targets,
+//                            surface curvature); fem/cell_fields.hpp provides each
 //   params                   its own options with help strings (ParamSpec), read by fem/material_options.cpp
 //   finalize(m, dim)         checks its parameters, precomputes (the layered-ARAP weight tensor); "" when fine
 //   evaluate<R, C>(in)       value, PK1 and Hessian at F in one pass (filtered for projected Newton when asked)
@@ -49,6 +51,7 @@ struct ParamSpec {
 struct EnergyDefaults {
   static constexpr bool tet = true, planar = true, cloth = false;
   static constexpr bool stretch = false, fibers = false, basis = false, volume = false, shear = true, mu2 = true;
+  static constexpr CellField cellField = CellField::None;
   static constexpr std::array<ParamSpec, 0> params{};
   static std::string finalize(Material &, int /*dim*/) { return {}; }
 };

@@ -54,6 +54,7 @@ bool energyContainsStretchInvariant(EnergyKind kind) { return energyInfo(kind).s
 bool energySupportsShape(EnergyKind kind, ElementShape shape) { return energyInfo(kind).supports(shape); }
 bool energyUsesFibers(EnergyKind kind) { return energyInfo(kind).fibers; }
 bool energyUsesVolumeTerm(EnergyKind kind) { return energyInfo(kind).volume; }
+CellField energyCellField(EnergyKind kind) { return energyInfo(kind).cellField; }
 
 double lameMu(double E, double nu) { return E / (2.0 * (1.0 + nu)); }
 double lameLambda(double E, double nu) { return E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)); }

@@ -107,6 +107,12 @@ bool energySupportsShape(EnergyKind kind, ElementShape shape);
 bool energyUsesFibers(EnergyKind kind);       // reads CellData::a (and b for cloth)
 bool energyUsesVolumeTerm(EnergyKind kind);   // has lambda/2 (J - J0)^2 (square F only)
 
+// A per-cell field an energy's elements take from the mesh rather than from options; the solver computes it
+// (fem/cell_fields.hpp: one source per field): shape targets S_t per cell from -activation / -target_file, varying
+// with the load or in time (Sec. 5); the caricature's curvature ratio c and normal n from the rest surface (Sec. 6).
+enum class CellField { None, ShapeTargets, SurfaceCurvature };
+CellField energyCellField(EnergyKind kind);
+
 // Lame parameters from Young's modulus and Poisson's ratio (3D / plane strain).
 double lameMu(double E, double nu);
 double lameLambda(double E, double nu);

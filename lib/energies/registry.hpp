@@ -17,6 +17,7 @@ struct EnergyInfo {
   const ParamSpec *params;
   int numParams;
   std::string (*finalize)(Material &, int dim);
+  CellField cellField;
   bool supports(ElementShape s) const { return s == ElementShape::Tet ? tet : s == ElementShape::Planar ? planar : cloth; }
 };
 
@@ -24,7 +25,7 @@ template <class E>
 constexpr EnergyInfo energyInfoOf(EnergyKind kind) {
   return {kind,     E::name,   E::summary, E::tet,  E::planar,        E::cloth,
           E::stretch, E::fibers, E::basis,   E::volume, E::shear,     E::mu2,
-          E::params.data(), static_cast<int>(E::params.size()), &E::finalize};
+          E::params.data(), static_cast<int>(E::params.size()), &E::finalize, E::cellField};
 }
 
 #define ARIES_ENERGY_INFO(Name) energyInfoOf<Name##Energy>(EnergyKind::Name),

@@ -200,4 +200,51 @@ PetscErrorCode computeCaricatureField(const Mesh &mesh, CaricatureField *field) 
   PetscFunctionReturn(0);
 }
 
+namespace {
+
+template <int C>
+class CaricatureSource final : public CellFieldSource<C> {
+ public:
+  PetscErrorCode setup(const Mesh &mesh, const std::vector<char> &applies,
+                       std::vector<energies::CellData<C>> *data) override {
+    PetscFunctionBeginUser;
+    if constexpr (C == 3) {
+      for (const char *opt : {"-curvature", "-fiber", "-fiber_file"}) {
+        PetscBool given = PETSC_FALSE;
+        PetscCall(PetscOptionsHasName(nullptr, nullptr, opt, &given));
+        if (given)
+          SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+                  "option %s does not apply to energy 'caricature' in the solver: each element's curvature ratio c and "
+                  "normal n come from the mesh surface (paper Sec. 6); %s is for aries-matpoint",
+                  opt, std::string(opt) == "-fiber_file" ? "a uniform -fiber" : opt);
+      }
+      CaricatureField f;
+      PetscCall(computeCaricatureField(mesh, &f));
+      for (size_t c = 0; c < applies.size(); ++c) {
+        if (!applies[c]) continue;
+        (*data)[c].a = f.normal[c];
+        (*data)[c].curvature = f.ratio[c];
+      }
+      PetscCall(PetscPrintf(PetscObjectComm((PetscObject)mesh.dm),
+                            "aries: caricature field: %d surface vertices, mean curvature %.6g, curvature ratio c in "
+                            "[%.4g, %.4g]%s\n",
+                            (int)f.surfaceVertices, f.meanCurvature, f.minRatio, f.maxRatio,
+                            f.degenerateNormals ? " (some cells without a normal: c = 0)" : ""));
+    } else {
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "energy 'caricature' needs a tetrahedral mesh");
+    }
+    PetscFunctionReturn(0);
+  }
+  std::unique_ptr<CellFieldSource<C>> clone() const override { return std::make_unique<CaricatureSource<C>>(*this); }
+};
+
+}  // namespace
+
+template <int C>
+std::unique_ptr<CellFieldSource<C>> makeCaricatureSource() {
+  return std::make_unique<CaricatureSource<C>>();
+}
+template std::unique_ptr<CellFieldSource<2>> makeCaricatureSource<2>();
+template std::unique_ptr<CellFieldSource<3>> makeCaricatureSource<3>();
+
 }  // namespace aries::fem

@@ -13,6 +13,7 @@
 // variance grows), beta < 0 smooths.
 #pragma once
 
+#include "fem/cell_fields.hpp"
 #include "fem/mesh.hpp"
 
 #include <Eigen/Dense>
@@ -32,5 +33,10 @@ struct CaricatureField {
 
 // Collective. A mesh without a closed boundary surface of positive mean curvature is an error.
 PetscErrorCode computeCaricatureField(const Mesh &mesh, CaricatureField *field);
+
+// The caricature energy's per-cell field (energies::CellField::SurfaceCurvature): each cell's a = n and c from
+// computeCaricatureField; tetrahedra only. The uniform -curvature, -fiber and -fiber_file are errors there.
+template <int C>
+std::unique_ptr<CellFieldSource<C>> makeCaricatureSource();
 
 }  // namespace aries::fem

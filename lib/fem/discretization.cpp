@@ -1,7 +1,5 @@
 #include "fem/discretization_impl.hpp"
 
-#include "core/options.hpp"
-#include "fem/fem_options.hpp"
 
 #include <petscdmplex.h>
 
@@ -21,28 +19,37 @@ double Discretization::characteristicModulus() const {
 }
 
 template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::setup(Mesh &mesh, double dt) {
+PetscErrorCode DiscretizationT<R, C>::setup(Mesh &mesh, const FemOptions &o, double dt) {
   PetscFunctionBeginUser;
   mesh_ = &mesh;
   dofs_ = R;
   std::vector<UniformCellData> regionCells;
   std::vector<std::pair<DMLabel, PetscInt>> regionLabels;  // (label, value) marking each region's cells
-  PetscCall(readMaterials(mesh, &regionCells, &regionLabels));
-  PetscCall(readDynamics());
+  for (const MaterialOptions &m : o.materials) {
+    materials_.push_back(m.material);
+    regionCells.push_back(m.cell);
+    if (m.region.empty()) continue;
+    DMLabel label;
+    PetscInt value;
+    PetscCall(regionLabel(mesh, m.region, &label, &value));
+    regionLabels.emplace_back(label, value);
+  }
+  dyn_ = o.dynamics;
+  bc_ = o.boundary;
   std::vector<Eigen::Vector3d> rest;
   PetscCall(vertexRestPositions(mesh, &rest));
   std::vector<PetscInt> bcFlag;
   PetscCall(markDirichlet(mesh, rest, &bcFlag));
   PetscCall(layoutDofs(mesh, rest, bcFlag));
   PetscCall(setupRestCells(mesh, regionLabels));
-  PetscCall(setupCellData(mesh, regionCells, !regionLabels.empty()));
+  PetscCall(setupCellData(mesh, o, regionCells, !regionLabels.empty()));
   PetscCall(setupMass(mesh));
-  PetscCall(setupTerms(mesh, dt));
+  PetscCall(setupTerms(mesh, o, dt));
   PetscFunctionReturn(0);
 }
 
 // The body without its supports (the detached start): this discretization's materials, rest cells, cell data (fibers,
-// regions, targets at the current step, the caricature field) and mass, copied rather than read or computed again;
+// regions, the per-cell fields at the current step) and mass, copied rather than read or computed again;
 // the DOF layout on `mesh`'s DM (a DMClone of this one's: the same local cells and vertices) with every vertex free;
 // the elastic terms (and cloth bending) with no gravity and no contact. The barrier's fallback cells are not carried
 // over: the detached body is evaluated as read.
@@ -67,7 +74,7 @@ PetscErrorCode DiscretizationT<R, C>::detachedCopy(Mesh &mesh, std::unique_ptr<D
   d->cells_.cells() = cells_.cells();
   d->cells_.cellData() = cells_.cellData();
   d->restFibers_ = restFibers_;
-  d->targets_ = targets_;
+  d->fields_ = fields_.copy();
   d->mass_ = mass_;
   d->keepOrientation_ = keepOrientation_;
   d->terms_ = {&d->cells_};
@@ -105,20 +112,13 @@ PetscErrorCode DiscretizationT<R, C>::addInertiaGravity(const Mesh &mesh) {
 }
 
 // The terms of the total potential, in assembly order: elastic cells, cloth bending hinges (-bending, surfaces in
-// 3D), contact with analytic obstacles (3D meshes), inertia and gravity. Options are read only where they apply.
+// 3D), contact with analytic obstacles (3D meshes), inertia and gravity.
 template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::setupTerms(Mesh &mesh, double dt) {
-  PetscBool set = PETSC_FALSE;
+PetscErrorCode DiscretizationT<R, C>::setupTerms(Mesh &mesh, const FemOptions &o, double dt) {
   PetscFunctionBeginUser;
   terms_ = {&cells_};
-  if constexpr (R == 2 && C == 2) {
-    PetscCall(core::get(opt::keepOrientation, &keepOrientation_, nullptr, {nullptr, mesh.uvMap ? "uv_map" : nullptr}));
-  }
-  if constexpr (R == 3 && C == 2) {
-    double bending = 0.0;
-    PetscCall(core::get(opt::bending, &bending, &set));
-    if (bending > 0.0) PetscCall(addBendingHinges(mesh, bending));
-  }
+  keepOrientation_ = o.keepOrientation ? PETSC_TRUE : PETSC_FALSE;
+  if (o.bending > 0.0) PetscCall(addBendingHinges(mesh, o.bending));
   if constexpr (R == 3) {
     // Default contact stiffness: the body's own stiffness at a vertex, so contact neither lets vertices sink deep
     // into the barrier's log singularity (slow Newton at impacts) nor dominates the system: with inertia the mean
@@ -128,7 +128,7 @@ PetscErrorCode DiscretizationT<R, C>::setupTerms(Mesh &mesh, double dt) {
     const double stiffness = dt > 0.0 ? dyn_.density * perVertex / (dt * dt)
                                       : characteristicModulus() * std::pow(perVertex, 1.0 - 2.0 / C);
     contact_ = std::make_unique<ObstacleContact>(verts_);
-    PetscCall(contact_->read(mesh, stiffness));
+    PetscCall(contact_->setup(mesh, o.contact, stiffness));
     if (!contact_->empty()) terms_.push_back(contact_.get());
   }
   PetscCall(addInertiaGravity(mesh));
@@ -141,7 +141,7 @@ PetscErrorCode DiscretizationT<R, C>::setStep(const StepState &step) {
   const bool moved = step.load != step_.load || step.time != step_.time;
   step_ = step;
   step_.prediction = nullptr;  // the stepper's vector: copied below, never kept
-  if (moved && (targets_.loadDependent() || targets_.timeDependent())) updateTargets();
+  if (moved && fields_.varies()) fields_.update(step_.time, step_.load, &cells_.cellData());
   inertia_->setTimeStep(step.dt);
   if (step.dt > 0.0 && step.prediction) {  // kept until a step brings a new one
     Vec loc;
@@ -254,24 +254,25 @@ bool Discretization::suspendVolumeTerms(bool suspend) {
   return changed;
 }
 
-PetscErrorCode Discretization::create(Mesh &mesh, double dt, std::unique_ptr<Discretization> *out) {
+PetscErrorCode Discretization::create(Mesh &mesh, const FemOptions &options, double dt,
+                                      std::unique_ptr<Discretization> *out) {
   PetscFunctionBeginUser;
   switch (mesh.shape) {
     case ElementShape::Tet: {
       auto d = std::make_unique<DiscretizationT<3, 3>>();
-      PetscCall(d->setup(mesh, dt));
+      PetscCall(d->setup(mesh, options, dt));
       *out = std::move(d);
       break;
     }
     case ElementShape::Planar: {
       auto d = std::make_unique<DiscretizationT<2, 2>>();
-      PetscCall(d->setup(mesh, dt));
+      PetscCall(d->setup(mesh, options, dt));
       *out = std::move(d);
       break;
     }
     case ElementShape::Cloth: {
       auto d = std::make_unique<DiscretizationT<3, 2>>();
-      PetscCall(d->setup(mesh, dt));
+      PetscCall(d->setup(mesh, options, dt));
       *out = std::move(d);
       break;
     }

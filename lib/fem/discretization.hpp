@@ -1,4 +1,5 @@
-// The finite-element discretization: per-vertex position unknowns on the DMPlex, Dirichlet vertices eliminated
+// The finite-element discretization (an assembly core with two narrower views: DiagnosticsView for io, Kinematics
+// for the solver): per-vertex position unknowns on the DMPlex, Dirichlet vertices eliminated
 // through constrained section dofs, per-cell rest data cached once (Dm^-1, rest measure, material, anisotropy
 // data), and the assembly of the energy, its gradient and its PSD-projected Hessian (BAIJ) from the closed-form
 // element kernels. One implementation per element shape (tet 3x3, planar 2x2, cloth 3x2), behind this interface
@@ -11,6 +12,7 @@
 
 #include "energies/material.hpp"
 #include "fem/boundary.hpp"
+#include "fem/discretization_options.hpp"
 #include "fem/material_options.hpp"
 #include "fem/mesh.hpp"
 #include "fem/step_state.hpp"
@@ -25,10 +27,6 @@
 
 namespace aries::fem {
 
-struct DynamicsTerms {
-  Eigen::Vector3d gravity = Eigen::Vector3d::Zero();
-  double density = 1000.0;
-};
 
 // Per-cell quantities of a state, on the local cells.
 struct CellQuantities {
@@ -36,13 +34,72 @@ struct CellQuantities {
   std::vector<double> energyDensity;  // Psi(F) per unit rest measure
 };
 
+// What io reads from a discretization: per-cell quantities of a state, reactions, and fields gathered in natural
+// (serial gmsh) order for output.
+class DiagnosticsView {
+ public:
+  virtual ~DiagnosticsView() = default;
+  // Elastic energy only (for reports).
+  virtual PetscErrorCode elasticEnergy(Vec xLocal, PetscReal *value) const = 0;
+  // alpha of every local cell at a local state; minimum over all cells (collective).
+  virtual PetscErrorCode cellAlpha(Vec xLocal, std::vector<double> *alpha) const = 0;
+  virtual PetscErrorCode cellQuantities(Vec xLocal, CellQuantities *q) const = 0;
+  // Stress and strain measures of every local cell in the mesh's 3D frame (kernels/stress_measures.hpp).
+  virtual PetscErrorCode cellStressMeasures(Vec xLocal, std::vector<kernels::StressMeasures> *out) const = 0;
+  // Region of every local cell: 0 = the global material, k = the k-th -regions entry.
+  virtual void cellRegions(std::vector<double> *regions) const = 0;
+  // Output in natural (serial gmsh) order, gathered on rank 0 (empty elsewhere).
+  virtual PetscErrorCode gatherVertexField(Vec xLocal, std::vector<double> *values) const = 0;   // positions (x3)
+  virtual PetscErrorCode gatherRestPositions(std::vector<double> *values) const = 0;              // (x3)
+  virtual PetscErrorCode gatherCellField(const std::vector<double> &perCell, int components,
+                                         std::vector<double> *values) const = 0;
+  virtual PetscErrorCode gatherTopology(std::vector<PetscInt> *cells) const = 0;  // natural vertex ids per cell
+  virtual PetscErrorCode cellFibers(std::vector<double> *fibers) const = 0;       // local cells, 3 comps (rest)
+  // Per vertex (x3): dE/dx on Dirichlet vertices (the force the support exerts, as -reactions sums it per set),
+  // 0 on free vertices.
+  virtual PetscErrorCode gatherVertexReactions(Vec xLocal, std::vector<double> *values) const = 0;
+  // Per vertex: k for a vertex of the k-th Dirichlet set (the order of -bc_clamp ids, then -bc_box boxes), 0 if free.
+  virtual PetscErrorCode gatherVertexMarkers(std::vector<double> *values) const = 0;
+  // Reaction force on Dirichlet set `set` (index into boundary().sets): the sum over its vertices of the elastic
+  // internal force dE/dx (collective). Pulling a bar by +d gives a reaction along +d.
+  virtual PetscErrorCode reactionForce(Vec xLocal, size_t set, Eigen::Vector3d *force) const = 0;
+  // Maximum distance of any vertex to its rest position (collective).
+  virtual PetscErrorCode maxDisplacement(Vec xLocal, PetscReal *value) const = 0;
+};
+
+// What the solver needs beyond the assembled model: vertex positions and the free and supported vertices (initial
+// states, the detached start's rigid fit) and the rotational form of a displacement (the rotational update).
+class Kinematics {
+ public:
+  virtual ~Kinematics() = default;
+  // Free (non-Dirichlet) owned vertices: (local vertex index v - vStart, natural id, global offset of its first
+  // dof, rest position).
+  virtual void forEachOwnedFreeVertex(const std::function<void(PetscInt local, PetscInt natural, PetscInt globalOffset,
+                                                               const Eigen::Vector3d &rest)> &fn) const = 0;
+  // Positions of every local vertex at a local state (boundary filled), 3 per vertex in local vertex order (v - vStart;
+  // z = 0 for planar unknowns).
+  virtual PetscErrorCode vertexPositions(Vec xLocal, std::vector<double> *xyz) const = 0;
+  // Local indices (v - vStart) of the owned Dirichlet vertices.
+  virtual void ownedSupportedVertices(std::vector<PetscInt> *local) const = 0;
+  // The rotational form of a displacement field d at a state x (local vectors, zeros at Dirichlet dofs), in two
+  // parts so that several multiples of d share one spin: vertexSpin gives each local vertex's spin w of d (the skew
+  // part of grad_x d, averaged over its non-inverted cells; 3 per vertex, collective, zero for planar unknowns);
+  // turnBySpin writes out = the share of scale * d that is a rotation by scale * w replaced by the exact rotation by
+  // that angle instead of the tangent step (out = scale * d where w = 0).
+  virtual PetscErrorCode vertexSpin(Vec xLocal, Vec dLocal, std::vector<double> *spin) const = 0;
+  virtual PetscErrorCode turnBySpin(const std::vector<double> &spin, Vec dLocal, double scale, Vec outLocal) const = 0;
+};
+
+// The assembly core: the section and boundary values, the step state, the energy, gradient, filtered Hessian and
+// curvature of the total potential, and the safeguard's per-cell quantities. Its two views (diagnostics() for io,
+// kinematics() for the solver) are the same object seen through narrower interfaces.
 class Discretization {
  public:
   virtual ~Discretization() = default;
-  // Reads the material (global and -regions), -fiber_file, -density, -gravity and the boundary options; builds the
-  // section, the rest data and the mass. `dt` is the time step of backward Euler (0 for static runs), the scale of
-  // the contact stiffness's default. Collective.
-  static PetscErrorCode create(Mesh &mesh, double dt, std::unique_ptr<Discretization> *out);
+  // From the options read by readFemOptions (discretization_options.hpp): builds the section, the rest data, the
+  // cell data (reading -fiber_file and the per-cell fields' files) and the mass. `dt` is the time step of backward
+  // Euler (0 for static runs), the scale of the contact stiffness's default. Collective.
+  static PetscErrorCode create(Mesh &mesh, const FemOptions &options, double dt, std::unique_ptr<Discretization> *out);
   // The body without its supports, for the first phase of a static solve from a synthetic start
   // (solver/detached_start.cpp): no Dirichlet vertices, only the elastic terms (no gravity, no contact), everything
   // else copied from this one (nothing is read again). `mesh` must carry its own DM, a DMClone of this one's, since
@@ -101,19 +158,10 @@ class Discretization {
   // call finds them above it. Called at the start of each step, so every Newton solve sees one fixed energy.
   // Returns the number of such elements (collective).
   virtual PetscErrorCode updateBarrierFallback(Vec xLocal, double threshold, PetscInt *count) = 0;
-  // Elastic energy only (for reports).
-  virtual PetscErrorCode elasticEnergy(Vec xLocal, PetscReal *value) const = 0;
 
-  // alpha of every local cell at a local state; minimum over all cells (collective).
-  virtual PetscErrorCode cellAlpha(Vec xLocal, std::vector<double> *alpha) const = 0;
   // The quantity the safeguard keeps above -alpha_min: alpha, or min(alpha, det F) for planar elements under
   // -keep_orientation (in 2D alpha = s1 + s2 stays positive when a triangle flips, det F does not).
   virtual PetscErrorCode cellGuard(Vec xLocal, std::vector<double> *guard) const = 0;
-  virtual PetscErrorCode cellQuantities(Vec xLocal, CellQuantities *q) const = 0;
-  // Stress and strain measures of every local cell in the mesh's 3D frame (kernels/stress_measures.hpp).
-  virtual PetscErrorCode cellStressMeasures(Vec xLocal, std::vector<kernels::StressMeasures> *out) const = 0;
-  // Region of every local cell: 0 = the global material, k = the k-th -regions entry.
-  virtual void cellRegions(std::vector<double> *regions) const = 0;
   // Top of each local cell's singular band for the safeguard: the mollifier's eps for cells evaluated with the
   // mollifier (below it their I4/I6 terms are the constant proxy, Eq. 33: nothing is singular there), 0 otherwise.
   virtual void mollifierBandTop(std::vector<double> *top) const = 0;
@@ -121,44 +169,10 @@ class Discretization {
   // mollifier) with 0 < alpha < the barrier's eps (collective count).
   virtual PetscErrorCode barrierActiveCells(Vec xLocal, PetscInt *count) const = 0;
 
-  // Output in natural (serial gmsh) order, gathered on rank 0 (empty elsewhere).
-  virtual PetscErrorCode gatherVertexField(Vec xLocal, std::vector<double> *values) const = 0;   // positions (x3)
-  virtual PetscErrorCode gatherRestPositions(std::vector<double> *values) const = 0;              // (x3)
-  virtual PetscErrorCode gatherCellField(const std::vector<double> &perCell, int components,
-                                         std::vector<double> *values) const = 0;
-  virtual PetscErrorCode gatherTopology(std::vector<PetscInt> *cells) const = 0;  // natural vertex ids per cell
-  virtual PetscErrorCode cellFibers(std::vector<double> *fibers) const = 0;       // local cells, 3 comps (rest)
-  // Per vertex (x3): dE/dx on Dirichlet vertices (the force the support exerts, as -reactions sums it per set),
-  // 0 on free vertices.
-  virtual PetscErrorCode gatherVertexReactions(Vec xLocal, std::vector<double> *values) const = 0;
-  // Per vertex: k for a vertex of the k-th Dirichlet set (the order of -bc_clamp ids, then -bc_box boxes), 0 if free.
-  virtual PetscErrorCode gatherVertexMarkers(std::vector<double> *values) const = 0;
   PetscInt verticesPerCell() const { return shapeCols() + 1; }
   virtual int shapeCols() const = 0;
-
-  // Free (non-Dirichlet) owned vertices: (local vertex index v - vStart, natural id, global offset of its first
-  // dof, rest position).
-  virtual void forEachOwnedFreeVertex(const std::function<void(PetscInt local, PetscInt natural, PetscInt globalOffset,
-                                                               const Eigen::Vector3d &rest)> &fn) const = 0;
-
-  // Reaction force on Dirichlet set `set` (index into boundary().sets): the sum over its vertices of the elastic
-  // internal force dE/dx (collective). Pulling a bar by +d gives a reaction along +d.
-  virtual PetscErrorCode reactionForce(Vec xLocal, size_t set, Eigen::Vector3d *force) const = 0;
-
-  // Positions of every local vertex at a local state (boundary filled), 3 per vertex in local vertex order (v - vStart;
-  // z = 0 for planar unknowns).
-  virtual PetscErrorCode vertexPositions(Vec xLocal, std::vector<double> *xyz) const = 0;
-  // Local indices (v - vStart) of the owned Dirichlet vertices.
-  virtual void ownedSupportedVertices(std::vector<PetscInt> *local) const = 0;
-  // The rotational form of a displacement field d at a state x (local vectors, zeros at Dirichlet dofs), in two
-  // parts so that several multiples of d share one spin: vertexSpin gives each local vertex's spin w of d (the skew
-  // part of grad_x d, averaged over its non-inverted cells; 3 per vertex, collective, zero for planar unknowns);
-  // turnBySpin writes out = the share of scale * d that is a rotation by scale * w replaced by the exact rotation by
-  // that angle instead of the tangent step (out = scale * d where w = 0).
-  virtual PetscErrorCode vertexSpin(Vec xLocal, Vec dLocal, std::vector<double> *spin) const = 0;
-  virtual PetscErrorCode turnBySpin(const std::vector<double> &spin, Vec dLocal, double scale, Vec outLocal) const = 0;
-  // Maximum distance of any vertex to its rest position (collective).
-  virtual PetscErrorCode maxDisplacement(Vec xLocal, PetscReal *value) const = 0;
+  virtual const DiagnosticsView &diagnostics() const = 0;
+  virtual const Kinematics &kinematics() const = 0;
 
  protected:
   Mesh *mesh_ = nullptr;

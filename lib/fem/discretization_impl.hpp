@@ -3,14 +3,14 @@
 //   discretization.cpp   setup order, the step state, boundary values, rest positions, mass
 //   dof_layout.cpp       Dirichlet marking, the PetscSection, the vertex table, clamp centers
 //   rest_geometry.cpp    per-cell rest data (Dm^-1, measure), degenerate/inverted cell checks, lumped mass
-//   cell_data.cpp        materials and regions, fibers, shape targets, the caricature field
+//   cell_data.cpp        materials and regions, fibers, the per-cell fields the energies name (cell_fields.hpp)
 //   assembly.cpp         objective, gradient, Hessian and curvature as loops over the terms (terms/)
 //   diagnostics.cpp      per-cell quantities, stress, reactions, gathers in natural order for output
 #pragma once
 
 #include "fem/discretization.hpp"
 #include "fem/material_options.hpp"
-#include "fem/shape_targets.hpp"
+#include "fem/cell_fields.hpp"
 #include "fem/terms/bending_hinges.hpp"
 #include "fem/terms/elastic_cells.hpp"
 #include "fem/terms/inertia_gravity.hpp"
@@ -24,13 +24,13 @@ namespace aries::fem {
 
 
 template <int R, int C>
-class DiscretizationT final : public Discretization {
+class DiscretizationT final : public Discretization, public DiagnosticsView, public Kinematics {
  public:
   using Cells = ElasticCells<R, C>;
   using Cell = typename Cells::Cell;
   static constexpr int NV = Cells::NV;
 
-  PetscErrorCode setup(Mesh &mesh, double dt);
+  PetscErrorCode setup(Mesh &mesh, const FemOptions &o, double dt);
   PetscErrorCode detachedCopy(Mesh &mesh, std::unique_ptr<Discretization> *out) const override;
 
   PetscErrorCode setStep(const StepState &step) override;
@@ -55,6 +55,8 @@ class DiscretizationT final : public Discretization {
   PetscErrorCode gatherTopology(std::vector<PetscInt> *cells) const override;
   PetscErrorCode cellFibers(std::vector<double> *fibers) const override;
   int shapeCols() const override { return C; }
+  const DiagnosticsView &diagnostics() const override { return *this; }
+  const Kinematics &kinematics() const override { return *this; }
   void forEachOwnedFreeVertex(
       const std::function<void(PetscInt, PetscInt, PetscInt, const Eigen::Vector3d &)> &fn) const override;
   PetscErrorCode maxDisplacement(Vec xLocal, PetscReal *value) const override;
@@ -71,23 +73,18 @@ class DiscretizationT final : public Discretization {
 
  private:
   // Setup, in this order (discretization.cpp).
-  PetscErrorCode readMaterials(Mesh &mesh, std::vector<UniformCellData> *regionCells,
-                               std::vector<std::pair<DMLabel, PetscInt>> *regionLabels);          // cell_data.cpp
-  PetscErrorCode readDynamics();                                                                 // cell_data.cpp
   PetscErrorCode markDirichlet(const Mesh &mesh, const std::vector<Eigen::Vector3d> &rest,
                                std::vector<PetscInt> *bcFlag);                                   // dof_layout.cpp
   PetscErrorCode layoutDofs(const Mesh &mesh, const std::vector<Eigen::Vector3d> &rest,
                             const std::vector<PetscInt> &bcFlag);                                // dof_layout.cpp
   PetscErrorCode setupRestCells(const Mesh &mesh, const std::vector<std::pair<DMLabel, PetscInt>> &regionLabels);
   PetscErrorCode checkRestCells(const Mesh &mesh, const std::vector<double> &signedMeasure) const;  // rest_geometry
-  PetscErrorCode setupCellData(Mesh &mesh, const std::vector<UniformCellData> &regionCells, bool regions);
-  PetscErrorCode setupActiveMaterials(Mesh &mesh);                                               // cell_data.cpp
+  PetscErrorCode setupCellData(Mesh &mesh, const FemOptions &o, const std::vector<UniformCellData> &regionCells,
+                               bool regions);                                                    // cell_data.cpp
   PetscErrorCode setupMass(const Mesh &mesh);                                                    // rest_geometry
-  PetscErrorCode setupTerms(Mesh &mesh, double dt);                                              // discretization
+  PetscErrorCode setupTerms(Mesh &mesh, const FemOptions &o, double dt);                         // discretization
   PetscErrorCode addBendingHinges(Mesh &mesh, double stiffness);                                 // discretization
   PetscErrorCode addInertiaGravity(const Mesh &mesh);                                            // discretization
-  bool usesEnergy(energies::EnergyKind kind) const;  // by any region
-  void updateTargets();
 
   // A local vector's vertex values (padded to 3 components) gathered in natural order on rank 0, for the vertices
   // `include` selects: each vertex's value taken once from its owner, or (sumShares) every rank's value summed.
@@ -101,7 +98,7 @@ class DiscretizationT final : public Discretization {
   VertexTable verts_;
   Cells cells_{verts_, materials_};
   std::vector<std::array<double, 3>> restFibers_;  // per cell, for output (material frame)
-  TargetField targets_;                            // shape_target: -activation / -target_file
+  CellFields<C> fields_;                           // the per-cell fields the materials name (cell_fields.hpp)
   std::vector<double> mass_;                       // per local vertex
   PetscBool keepOrientation_ = PETSC_FALSE;        // -keep_orientation (planar elements)
   std::unique_ptr<BendingHinges> hinges_;          // -bending (cloth)

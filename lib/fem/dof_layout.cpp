@@ -14,14 +14,13 @@ namespace aries::fem {
 using core::sharedLeafPoints;
 using core::CentroidAccumulator;
 
-// Per DM point: the index of the first Dirichlet set (clamp sets, then boxes) a vertex belongs to, PETSC_MAX_INT if
+// Per DM point (the sets of bc_, from the options): the index of the first Dirichlet set (clamp sets, then boxes) a vertex belongs to, PETSC_MAX_INT if
 // none; every copy of a shared vertex agrees (a boundary face may live on one rank only).
 template <int R, int C>
 PetscErrorCode DiscretizationT<R, C>::markDirichlet(const Mesh &mesh, const std::vector<Eigen::Vector3d> &rest,
                                                     std::vector<PetscInt> *bcFlagOut) {
   PetscInt pStart, pEnd;
   PetscFunctionBeginUser;
-  PetscCall(readBoundaryOptions(&bc_));
   PetscCall(DMPlexGetChart(mesh.dm, &pStart, &pEnd));
   std::vector<PetscInt> &bcFlag = *bcFlagOut;
   bcFlag.assign(pEnd - pStart, PETSC_MAX_INT);

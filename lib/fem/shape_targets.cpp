@@ -90,4 +90,43 @@ Eigen::Matrix3d TargetField::at(size_t c, double t, double s, const Eigen::Vecto
   return I;
 }
 
+namespace {
+
+template <int C>
+class ShapeTargetSource final : public CellFieldSource<C> {
+ public:
+  PetscErrorCode setup(const Mesh &mesh, const std::vector<char> &applies,
+                       std::vector<energies::CellData<C>> *data) override {
+    PetscBool uniform = PETSC_FALSE;
+    PetscFunctionBeginUser;
+    PetscCall(PetscOptionsHasName(nullptr, nullptr, "-target", &uniform));
+    PetscCall(targets_.read(mesh, C, uniform));
+    if (targets_.source() != TargetField::Source::Material) update(0.0, 0.0, applies, data);  // the rest step
+    PetscFunctionReturn(0);
+  }
+  bool varies() const override { return targets_.loadDependent() || targets_.timeDependent(); }
+  void update(double time, double load, const std::vector<char> &applies,
+              std::vector<energies::CellData<C>> *data) const override {
+    for (size_t c = 0; c < applies.size(); ++c) {
+      if (!applies[c]) continue;
+      Eigen::Vector3d a = Eigen::Vector3d::Zero();
+      a.head<C>() = (*data)[c].a;
+      (*data)[c].target = targets_.at(c, time, load, a).template topLeftCorner<C, C>();
+    }
+  }
+  std::unique_ptr<CellFieldSource<C>> clone() const override { return std::make_unique<ShapeTargetSource<C>>(*this); }
+
+ private:
+  TargetField targets_;
+};
+
+}  // namespace
+
+template <int C>
+std::unique_ptr<CellFieldSource<C>> makeShapeTargetSource() {
+  return std::make_unique<ShapeTargetSource<C>>();
+}
+template std::unique_ptr<CellFieldSource<2>> makeShapeTargetSource<2>();
+template std::unique_ptr<CellFieldSource<3>> makeShapeTargetSource<3>();
+
 }  // namespace aries::fem

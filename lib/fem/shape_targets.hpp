@@ -14,6 +14,8 @@
 
 #include <vector>
 
+#include "fem/cell_fields.hpp"
+
 namespace aries::fem {
 
 class TargetField {
@@ -38,5 +40,10 @@ class TargetField {
   size_t ncells_ = 0;
   Eigen::Matrix3d keyframe(size_t k, size_t c) const;
 };
+
+// The shape_target energy's per-cell field (energies::CellField::ShapeTargets): S_t from -activation (along each
+// cell's fiber, ramped with the load) or -target_file (keyframes in time); with neither, the material's -target.
+template <int C>
+std::unique_ptr<CellFieldSource<C>> makeShapeTargetSource();
 
 }  // namespace aries::fem

@@ -68,8 +68,8 @@ PetscErrorCode writeCheckpoint(const solver::Simulation &sim, const std::string 
   PetscCall(DMGetLocalVector(disc.dm(), &vLocal));
   PetscCall(sim.localState(xLocal));
   PetscCall(sim.localVelocity(vLocal));
-  PetscCall(disc.gatherVertexField(xLocal, &positions));
-  PetscCall(disc.gatherVertexField(vLocal, &velocities));
+  PetscCall(disc.diagnostics().gatherVertexField(xLocal, &positions));
+  PetscCall(disc.diagnostics().gatherVertexField(vLocal, &velocities));
   PetscCall(DMRestoreLocalVector(disc.dm(), &xLocal));
   PetscCall(DMRestoreLocalVector(disc.dm(), &vLocal));
   std::string err;

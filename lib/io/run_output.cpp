@@ -126,8 +126,8 @@ PetscErrorCode RunOutput::setup(const OutputOptions &opts, const CheckpointOptio
   if (!opts.output.empty()) {
     std::vector<PetscInt> cells;
     std::vector<double> rest;
-    PetscCall(disc.gatherTopology(&cells));
-    PetscCall(disc.gatherRestPositions(&rest));
+    PetscCall(disc.diagnostics().gatherTopology(&cells));
+    PetscCall(disc.diagnostics().gatherRestPositions(&rest));
     PetscCall(writer_.open(comm_, opts.output, cells, disc.verticesPerCell(), rest, resumeAfterStep));
   }
   PetscCall(PetscLogStageGetId("output", &outputStage_));
@@ -144,7 +144,7 @@ PetscErrorCode RunOutput::writeState(const solver::Simulation &sim, PetscInt ste
   PetscCall(DMGetLocalVector(disc.dm(), &xLocal));
   PetscCall(sim.localState(xLocal));
   std::vector<double> positions;
-  PetscCall(disc.gatherVertexField(xLocal, &positions));
+  PetscCall(disc.diagnostics().gatherVertexField(xLocal, &positions));
   std::vector<const OutputField *> selected;
   for (const auto &f : outputFields())
     if (std::find(opts_.fields.begin(), opts_.fields.end(), f.name) != opts_.fields.end()) selected.push_back(&f);
@@ -154,10 +154,10 @@ PetscErrorCode RunOutput::writeState(const solver::Simulation &sim, PetscInt ste
   fem::CellQuantities q;
   std::vector<kernels::StressMeasures> sm;
   std::vector<double> fibers, regions;
-  if (needs(FieldSource::CellQuantities)) PetscCall(disc.cellQuantities(xLocal, &q));
-  if (needs(FieldSource::StressMeasures)) PetscCall(disc.cellStressMeasures(xLocal, &sm));
-  if (needs(FieldSource::Fibers)) PetscCall(disc.cellFibers(&fibers));
-  if (needs(FieldSource::Regions)) disc.cellRegions(&regions);
+  if (needs(FieldSource::CellQuantities)) PetscCall(disc.diagnostics().cellQuantities(xLocal, &q));
+  if (needs(FieldSource::StressMeasures)) PetscCall(disc.diagnostics().cellStressMeasures(xLocal, &sm));
+  if (needs(FieldSource::Fibers)) PetscCall(disc.diagnostics().cellFibers(&fibers));
+  if (needs(FieldSource::Regions)) disc.diagnostics().cellRegions(&regions);
   std::vector<CellField> cellFields, vertexFields;
   for (const OutputField *f : selected) {
     const std::string name = f->name;
@@ -191,15 +191,15 @@ PetscErrorCode RunOutput::writeState(const solver::Simulation &sim, PetscInt ste
         Vec vLocal;
         PetscCall(DMGetLocalVector(disc.dm(), &vLocal));
         PetscCall(sim.localVelocity(vLocal));
-        PetscCall(disc.gatherVertexField(vLocal, &out.values));
+        PetscCall(disc.diagnostics().gatherVertexField(vLocal, &out.values));
         PetscCall(DMRestoreLocalVector(disc.dm(), &vLocal));
         break;
       }
-      case FieldSource::Reactions: PetscCall(disc.gatherVertexReactions(xLocal, &out.values)); break;
-      case FieldSource::Markers: PetscCall(disc.gatherVertexMarkers(&out.values)); break;
+      case FieldSource::Reactions: PetscCall(disc.diagnostics().gatherVertexReactions(xLocal, &out.values)); break;
+      case FieldSource::Markers: PetscCall(disc.diagnostics().gatherVertexMarkers(&out.values)); break;
     }
     if (f->perCell()) {
-      PetscCall(disc.gatherCellField(local, f->components, &out.values));
+      PetscCall(disc.diagnostics().gatherCellField(local, f->components, &out.values));
       cellFields.push_back(std::move(out));
     } else {
       vertexFields.push_back(std::move(out));
@@ -248,18 +248,18 @@ PetscErrorCode RunOutput::afterStep(const solver::Simulation &sim, const solver:
   st.residual = rep.newton.residualNorm;
   st.barrierFallback = rep.newton.barrierFallbackCells;
   st.barrierCells = rep.newton.barrierActiveCells;
-  PetscCall(disc.elasticEnergy(xLocal, &st.energy));
+  PetscCall(disc.diagnostics().elasticEnergy(xLocal, &st.energy));
   std::vector<double> alpha;
-  PetscCall(disc.cellAlpha(xLocal, &alpha));
+  PetscCall(disc.diagnostics().cellAlpha(xLocal, &alpha));
   double amin = PETSC_MAX_REAL;
   for (double a : alpha) amin = std::min(amin, a);
   PetscCallMPI(MPI_Allreduce(&amin, &st.minAlpha, 1, MPI_DOUBLE, MPI_MIN, comm_));
-  PetscCall(disc.maxDisplacement(xLocal, &st.maxDisplacement));
+  PetscCall(disc.diagnostics().maxDisplacement(xLocal, &st.maxDisplacement));
   PetscCall(stats_.append(st));
   if (!opts_.reactions.empty())
     for (size_t set = 0; set < disc.boundary().sets.size(); ++set) {
       Eigen::Vector3d f;
-      PetscCall(disc.reactionForce(xLocal, set, &f));
+      PetscCall(disc.diagnostics().reactionForce(xLocal, set, &f));
       if (reactions_) {
         std::fprintf(reactions_, "%d,%.10g,%s,%.17g,%.17g,%.17g\n", (int)rep.step, rep.time,
                      disc.boundary().sets[set].id.c_str(), f[0], f[1], f[2]);

@@ -62,13 +62,13 @@ PetscErrorCode fitRigidMotion(MPI_Comm comm, const std::vector<PetscInt> &vertic
 }
 
 // Positions given per local vertex (3 each) into the owned free dofs of a global vector.
-PetscErrorCode setFreePositions(const fem::Discretization &disc, const std::vector<double> &xyz, Vec xGlobal) {
+PetscErrorCode setFreePositions(const fem::Kinematics &kin, const std::vector<double> &xyz, Vec xGlobal) {
   PetscScalar *x;
   PetscInt lo;
   PetscFunctionBeginUser;
   PetscCall(VecGetOwnershipRange(xGlobal, &lo, nullptr));
   PetscCall(VecGetArray(xGlobal, &x));
-  disc.forEachOwnedFreeVertex([&](PetscInt local, PetscInt, PetscInt off, const Eigen::Vector3d &) {
+  kin.forEachOwnedFreeVertex([&](PetscInt local, PetscInt, PetscInt off, const Eigen::Vector3d &) {
     for (int i = 0; i < 3; ++i) x[off - lo + i] = xyz[3 * local + i];
   });
   PetscCall(VecRestoreArray(xGlobal, &x));
@@ -97,10 +97,10 @@ PetscErrorCode Simulation::detachedStart(NewtonResult *acc) {
   std::vector<double> start, relaxed;
   PetscCall(DMGetLocalVector(disc_->dm(), &local));
   PetscCall(localState(local));
-  PetscCall(disc_->vertexPositions(local, &start));  // supported vertices at their current prescribed positions
+  PetscCall(disc_->kinematics().vertexPositions(local, &start));  // the supported vertices at their prescribed positions
   PetscCall(DMRestoreLocalVector(disc_->dm(), &local));
   PetscCall(DMCreateGlobalVector(detached->dm(), &y));
-  PetscCall(setFreePositions(*detached, start, y));
+  PetscCall(setFreePositions(detached->kinematics(), start, y));
 
   NewtonResult result;
   {
@@ -114,7 +114,7 @@ PetscErrorCode Simulation::detachedStart(NewtonResult *acc) {
       PetscCall(newton.solve(y, &result));  // the shape stage
       detached->suspendVolumeTerms(false);
       *acc += result;
-      if (!result.converged()) PetscCall(setFreePositions(*detached, start, y));
+      if (!result.converged()) PetscCall(setFreePositions(detached->kinematics(), start, y));
     }
     PetscCall(newton.solve(y, &result));
   }
@@ -123,10 +123,10 @@ PetscErrorCode Simulation::detachedStart(NewtonResult *acc) {
     PetscCall(DMGetLocalVector(detached->dm(), &local));
     PetscCall(VecSet(local, 0.0));
     PetscCall(DMGlobalToLocal(detached->dm(), y, INSERT_VALUES, local));
-    PetscCall(detached->vertexPositions(local, &relaxed));
+    PetscCall(detached->kinematics().vertexPositions(local, &relaxed));
     PetscCall(DMRestoreLocalVector(detached->dm(), &local));
     std::vector<PetscInt> supported;
-    disc_->ownedSupportedVertices(&supported);
+    disc_->kinematics().ownedSupportedVertices(&supported);
     Eigen::Matrix3d R;
     Eigen::Vector3d t;
     PetscCall(fitRigidMotion(comm, supported, relaxed, start, &R, &t));
@@ -134,7 +134,7 @@ PetscErrorCode Simulation::detachedStart(NewtonResult *acc) {
       const Eigen::Vector3d p = R * Eigen::Vector3d(relaxed[3 * v], relaxed[3 * v + 1], relaxed[3 * v + 2]) + t;
       for (int i = 0; i < 3; ++i) relaxed[3 * v + i] = p[i];
     }
-    PetscCall(setFreePositions(*disc_, relaxed, x_));
+    PetscCall(setFreePositions(disc_->kinematics(), relaxed, x_));
   }  // else the supported solve starts from the synthetic state as it would without this phase
   PetscCall(VecDestroy(&y));
   PetscFunctionReturn(0);

@@ -18,6 +18,7 @@ PetscErrorCode RotationalUpdate::shapeDirection(NewtonContext &ctx, Direction &d
                                                 PetscBool *changed) {
   PetscFunctionBeginUser;
   fem::Discretization *disc = ctx.disc;
+  const fem::Kinematics &kin = disc->kinematics();
   const DM dm = disc->dm();
   LocalVec xl(dm), dl(dm);
   std::vector<double> spin;
@@ -26,7 +27,7 @@ PetscErrorCode RotationalUpdate::shapeDirection(NewtonContext &ctx, Direction &d
   PetscCall(dl.fromGlobal(Y, nullptr));
   PetscCall(VecScale(Y, -1.0));
   PetscCall(PetscLogStagePush(ctx.assemblyStage));
-  PetscCall(disc->vertexSpin(xl.get(), dl.get(), &spin));
+  PetscCall(kin.vertexSpin(xl.get(), dl.get(), &spin));
   PetscCall(PetscLogStagePop());
   Vec out, cand, best;
   PetscCall(DMGetLocalVector(dm, &out));
@@ -35,7 +36,7 @@ PetscErrorCode RotationalUpdate::shapeDirection(NewtonContext &ctx, Direction &d
   // The direction Y' = -(turned scale * displacement) and the energy at X - Y'.
   const auto candidate = [&](double scale, Vec dir, PetscReal *energy) -> PetscErrorCode {
     PetscFunctionBeginUser;
-    PetscCall(disc->turnBySpin(spin, dl.get(), scale, out));
+    PetscCall(kin.turnBySpin(spin, dl.get(), scale, out));
     PetscCall(DMLocalToGlobal(dm, out, INSERT_VALUES, dir));
     PetscCall(VecScale(dir, -1.0));
     PetscCall(VecWAXPY(ctx.work, -1.0, dir, X));

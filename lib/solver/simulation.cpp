@@ -95,7 +95,7 @@ PetscErrorCode Simulation::applyInitialState() {
     PetscScalar *xa;
     PetscCall(VecGetOwnershipRange(x_, &lo, nullptr));
     PetscCall(VecGetArray(x_, &xa));
-    disc_->forEachOwnedFreeVertex([&](PetscInt local, PetscInt, PetscInt off, const Eigen::Vector3d &) {
+    disc_->kinematics().forEachOwnedFreeVertex([&](PetscInt local, PetscInt, PetscInt off, const Eigen::Vector3d &) {
       xa[off - lo] = uv[local][0];
       xa[off - lo + 1] = uv[local][1];
     });
@@ -105,7 +105,7 @@ PetscErrorCode Simulation::applyInitialState() {
   const int R = static_cast<int>(disc_->dofsPerVertex());
   // Rest centroid and measure of the body (vertices are the free ones; the centroid uses all cells).
   core::CentroidAccumulator acc;
-  disc_->forEachOwnedFreeVertex([&](PetscInt, PetscInt, PetscInt, const Eigen::Vector3d &X) { acc.add(X); });
+  disc_->kinematics().forEachOwnedFreeVertex([&](PetscInt, PetscInt, PetscInt, const Eigen::Vector3d &X) { acc.add(X); });
   Eigen::Vector3d centroid;
   PetscCall(acc.reduce(comm, &centroid));
   PetscInt lo;
@@ -113,7 +113,7 @@ PetscErrorCode Simulation::applyInitialState() {
   PetscCall(VecGetOwnershipRange(x_, &lo, nullptr));
   PetscCall(VecGetArray(x_, &x));
   if (opts_.initial == InitialState::Invert) {
-    disc_->forEachOwnedFreeVertex([&](PetscInt, PetscInt, PetscInt off, const Eigen::Vector3d &X) {
+    disc_->kinematics().forEachOwnedFreeVertex([&](PetscInt, PetscInt, PetscInt off, const Eigen::Vector3d &X) {
       for (int i = 0; i < R; ++i) x[off - lo + i] = 2.0 * centroid[i] - X[i];
     });
   } else if (opts_.initial == InitialState::CollapsePlane || opts_.initial == InitialState::CollapseLine ||
@@ -122,14 +122,14 @@ PetscErrorCode Simulation::applyInitialState() {
     // free vertex lies in the plane through the centroid normal to z (y in 2D); line: all but x; point: all).
     const int keep = opts_.initial == InitialState::CollapsePlane ? R - 1
                      : opts_.initial == InitialState::CollapseLine ? 1 : 0;
-    disc_->forEachOwnedFreeVertex([&](PetscInt, PetscInt, PetscInt off, const Eigen::Vector3d &X) {
+    disc_->kinematics().forEachOwnedFreeVertex([&](PetscInt, PetscInt, PetscInt off, const Eigen::Vector3d &X) {
       for (int i = 0; i < R; ++i) x[off - lo + i] = i < keep ? X[i] : centroid[i];
     });
   } else {
     const int dim = disc_->shapeCols() == 3 ? 3 : 2;
     const double side = std::pow(opts_.scrambleVolumeRatio * disc_->restMeasureGlobal(), 1.0 / dim);
     const uint64_t seed = static_cast<uint64_t>(opts_.scrambleSeed);
-    disc_->forEachOwnedFreeVertex([&](PetscInt, PetscInt natural, PetscInt off, const Eigen::Vector3d &) {
+    disc_->kinematics().forEachOwnedFreeVertex([&](PetscInt, PetscInt natural, PetscInt off, const Eigen::Vector3d &) {
       for (int i = 0; i < R; ++i) {
         const bool inPlane = i < dim;
         x[off - lo + i] = centroid[i] + (inPlane ? side * (uniform01(seed, natural, i) - 0.5) : 0.0);
@@ -149,7 +149,7 @@ PetscErrorCode Simulation::resume(const std::vector<double> &positions, const st
   PetscCall(VecGetOwnershipRange(x_, &lo, nullptr));
   PetscCall(VecGetArray(x_, &x));
   PetscCall(VecGetArray(v_, &v));
-  disc_->forEachOwnedFreeVertex([&](PetscInt, PetscInt natural, PetscInt off, const Eigen::Vector3d &) {
+  disc_->kinematics().forEachOwnedFreeVertex([&](PetscInt, PetscInt natural, PetscInt off, const Eigen::Vector3d &) {
     for (int i = 0; i < R; ++i) {
       x[off - lo + i] = positions[3 * static_cast<size_t>(natural) + i];
       v[off - lo + i] = velocities[3 * static_cast<size_t>(natural) + i];

@@ -12,6 +12,7 @@ struct CaricatureEnergy : EnergyDefaults {
   static constexpr const char *name = "caricature";
   static constexpr const char *summary = "iarap + beta c I4(n) (Eq. 66)";
   static constexpr bool planar = false, stretch = true, fibers = true, volume = true;
+  static constexpr CellField cellField = CellField::SurfaceCurvature;
   static constexpr std::array<ParamSpec, 2> params{{
       {"-beta", "curvature exaggeration (dimensionless)", ParamKind::Real, &Material::beta, nullptr, true},
       {"-curvature", "curvature ratio c of the element (aries-matpoint; the solver takes it from the surface)",

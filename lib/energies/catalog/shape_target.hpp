@@ -11,6 +11,7 @@ struct ShapeTargetEnergy : EnergyDefaults {
   static constexpr const char *name = "shape_target";
   static constexpr const char *summary = "mu/2 |F - R S_t|^2 + lambda/2 (J - det S_t)^2 in the form of Eq. 65";
   static constexpr bool stretch = true, volume = true;
+  static constexpr CellField cellField = CellField::ShapeTargets;
   static constexpr std::array<ParamSpec, 1> params{{
       {"-target", "uniform symmetric shape target S_t, d x d numbers row by row (default: identity)",
        ParamKind::SymmetricMatrix},

@@ -10,12 +10,10 @@ namespace aries::fem {
 
 using core::collectiveCheck;
 
-PetscErrorCode ObstacleContact::read(const Mesh &mesh, double defaultStiffness) {
+PetscErrorCode readObstacleOptions(const Mesh &mesh, ObstacleOptions *o) {
   std::vector<PetscReal> planes, spheres;
-  PetscBool hasP = PETSC_FALSE, hasS = PETSC_FALSE, set = PETSC_FALSE;
-  MPI_Comm comm;
+  PetscBool hasP = PETSC_FALSE, hasS = PETSC_FALSE;
   PetscFunctionBeginUser;
-  PetscCall(PetscObjectGetComm((PetscObject)mesh.dm, &comm));
   PetscCall(core::get(opt::obstaclePlanes, &planes, &hasP));
   PetscCall(core::get(opt::obstacleSpheres, &spheres, &hasS));
   if (hasP && (planes.empty() || planes.size() % 6))
@@ -26,29 +24,41 @@ PetscErrorCode ObstacleContact::read(const Mesh &mesh, double defaultStiffness) 
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
             "option -obstacle_sphere takes cx,cy,cz,r (4 numbers per sphere), got %d numbers", (int)spheres.size());
   for (size_t k = 0; k < planes.size(); k += 6) {
-    kernels::Obstacle o;
-    o.kind = kernels::Obstacle::Kind::Plane;
-    o.point = Eigen::Vector3d(planes[k], planes[k + 1], planes[k + 2]);
-    o.normal = Eigen::Vector3d(planes[k + 3], planes[k + 4], planes[k + 5]);
-    if (!(o.normal.norm() > 0.0))
+    kernels::Obstacle ob;
+    ob.kind = kernels::Obstacle::Kind::Plane;
+    ob.point = Eigen::Vector3d(planes[k], planes[k + 1], planes[k + 2]);
+    ob.normal = Eigen::Vector3d(planes[k + 3], planes[k + 4], planes[k + 5]);
+    if (!(ob.normal.norm() > 0.0))
       SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -obstacle_plane: plane %d has a zero normal", (int)(k / 6) + 1);
-    o.normal.normalize();
-    obstacles_.push_back(o);
+    ob.normal.normalize();
+    o->obstacles.push_back(ob);
   }
   for (size_t k = 0; k < spheres.size(); k += 4) {
-    kernels::Obstacle o;
-    o.kind = kernels::Obstacle::Kind::Sphere;
-    o.point = Eigen::Vector3d(spheres[k], spheres[k + 1], spheres[k + 2]);
-    o.radius = spheres[k + 3];
-    if (!(o.radius > 0.0))
+    kernels::Obstacle ob;
+    ob.kind = kernels::Obstacle::Kind::Sphere;
+    ob.point = Eigen::Vector3d(spheres[k], spheres[k + 1], spheres[k + 2]);
+    ob.radius = spheres[k + 3];
+    if (!(ob.radius > 0.0))
       SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -obstacle_sphere: sphere %d needs a radius > 0", (int)(k / 4) + 1);
-    obstacles_.push_back(o);
+    o->obstacles.push_back(ob);
   }
+  if (o->obstacles.empty()) PetscFunctionReturn(0);
+  PetscBool set = PETSC_FALSE;
+  o->dhat = 1e-2 * mesh.diagonal;
+  PetscCall(core::get(opt::contactDhat, &o->dhat, &set));
+  PetscCall(core::get(opt::contactStiffness, &o->stiffness, &set));
+  o->stiffnessGiven = set;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ObstacleContact::setup(const Mesh &mesh, const ObstacleOptions &o, double defaultStiffness) {
+  MPI_Comm comm;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetComm((PetscObject)mesh.dm, &comm));
+  obstacles_ = o.obstacles;
   if (obstacles_.empty()) PetscFunctionReturn(0);
-  dhat_ = 1e-2 * mesh.diagonal;
-  PetscCall(core::get(opt::contactDhat, &dhat_, &set));
-  kappa_ = defaultStiffness;
-  PetscCall(core::get(opt::contactStiffness, &kappa_, &set));
+  dhat_ = o.dhat;
+  kappa_ = o.stiffnessGiven ? o.stiffness : defaultStiffness;
   // The rest shape must be outside every obstacle.
   std::string msg;
   for (size_t v = 0; v < verts_.size() && msg.empty(); ++v)

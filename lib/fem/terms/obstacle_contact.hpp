@@ -12,12 +12,23 @@
 
 namespace aries::fem {
 
+// -obstacle_plane, -obstacle_sphere, -contact_dhat, -contact_stiffness.
+struct ObstacleOptions {
+  std::vector<kernels::Obstacle> obstacles;
+  double dhat = 0.0;            // barrier width (default 1e-2 L)
+  double stiffness = 0.0;       // barrier stiffness when given ...
+  bool stiffnessGiven = false;  // ... else the body's own at a vertex (ObstacleContact::setup)
+};
+
+// Reads the obstacle options (-contact_* only with an obstacle); a malformed one is a one-line error.
+PetscErrorCode readObstacleOptions(const Mesh &mesh, ObstacleOptions *o);
+
 class ObstacleContact final : public Term {
  public:
   explicit ObstacleContact(const VertexTable &verts) : verts_(verts) {}
-  // Reads the obstacle options; `defaultStiffness` is the body's own stiffness at a vertex. Fails with a one-line
-  // error if an option is malformed or a rest vertex is inside an obstacle. Collective.
-  PetscErrorCode read(const Mesh &mesh, double defaultStiffness);
+  // `defaultStiffness` is the body's own stiffness at a vertex. Fails with a one-line error if a rest vertex is
+  // inside an obstacle. Collective.
+  PetscErrorCode setup(const Mesh &mesh, const ObstacleOptions &o, double defaultStiffness);
   bool empty() const { return obstacles_.empty(); }
   const char *name() const override { return "obstacle contact"; }
   void addEnergy(const PetscScalar *x, double *energy, double *magnitude) const override;
