@@ -127,6 +127,16 @@ def case_defs():
     d["density_zero"] = (lambda: ["-dm_plex_filename", good_mesh(), "-density", "0"], r"option -density must be > 0")
     d["unknown_bc_set"] = (lambda: ["-dm_plex_filename", good_mesh(), "-bc_clamp", "top"],
                            r"option -bc_clamp: boundary set 'top' does not exist in mesh .*physical groups present")
+    d["load_unknown_set"] = (lambda: ["-dm_plex_filename", good_mesh(), "-load_traction_top", "0,0,1"],
+                             r"option -load_traction_top: no such physical group in mesh .*physical groups present")
+    d["load_volume_group"] = (lambda: ["-dm_plex_filename", good_mesh(), "-load_force_body", "0,0,1"],
+                              r"option -load_force_body: the group has no boundary facets")
+    d["load_components"] = (lambda: ["-dm_plex_filename", good_mesh(), "-load_force_bottom", "1,2"],
+                            r"option -load_force_bottom takes 3 comma-separated numbers on a 3D mesh, got 2")
+    d["load_pressure_open"] = (lambda: ["-dm_plex_filename", good_mesh(), "-load_pressure_bottom", "1"],
+                               r"option -load_pressure_bottom: the group is not a closed surface \(3 edges")
+    d["load_not_a_number"] = (lambda: ["-dm_plex_filename", good_mesh(), "-load_traction_bottom", "0,x,1"],
+                              r"option -load_traction_bottom: ")
     d["strict_unknown_option"] = (lambda: ["-dm_plex_filename", good_mesh(), "-strict", "-gama", "3"],
                                   r"-strict: unknown or unused option\(s\) -gama")
     d["restart_garbage"] = (lambda: ["-dm_plex_filename", good_mesh(), "-restart", write("ck.h5", "not hdf5")],

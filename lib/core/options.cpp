@@ -201,15 +201,18 @@ PetscErrorCode lookup(const OptionDecl &d, OptionType type, ReadContext at, std:
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_PLIB, "option %s is read but listed in no options section (io/options_help.cpp)",
             declaredName(d).c_str());
   PetscBool has = PETSC_FALSE;
+  // The full name, composed as PETSc composes prefix and name; a family without a suffix (name "-", e.g.
+  // -load_traction_<set>) is its prefix alone.
+  const std::string full = optionName(at.prefix, d.name);
   if (type == OptionType::Flag) {  // a flag may come without a value
-    PetscCall(PetscOptionsHasName(nullptr, at.prefix, d.name, &has));
+    PetscCall(PetscOptionsHasName(nullptr, nullptr, full.c_str(), &has));
     if (has) {
       char buf[64] = "";
-      PetscCall(PetscOptionsGetString(nullptr, at.prefix, d.name, buf, sizeof(buf), nullptr));
+      PetscCall(PetscOptionsGetString(nullptr, nullptr, full.c_str(), buf, sizeof(buf), nullptr));
       *text = buf;
     }
   } else {
-    PetscCall(optionString(at.prefix, d.name, text, &has));
+    PetscCall(optionString(nullptr, full.c_str(), text, &has));
   }
   *fromUser = has;
   *found = has;

@@ -51,7 +51,7 @@ PetscErrorCode DiscretizationT<R, C>::setup(Mesh &mesh, const FemOptions &o, dou
 // The body without its supports (the detached start): this discretization's materials, rest cells, cell data (fibers,
 // regions, the per-cell fields at the current step) and mass, copied rather than read or computed again;
 // the DOF layout on `mesh`'s DM (a DMClone of this one's: the same local cells and vertices) with every vertex free;
-// the elastic terms (and cloth bending) with no gravity and no contact. The barrier's fallback cells are not carried
+// the elastic terms (and cloth bending) with no gravity, contact or surface loads. The barrier's fallback cells are not carried
 // over: the detached body is evaluated as read.
 template <int R, int C>
 PetscErrorCode DiscretizationT<R, C>::detachedCopy(Mesh &mesh, std::unique_ptr<Discretization> *out) const {
@@ -112,7 +112,7 @@ PetscErrorCode DiscretizationT<R, C>::addInertiaGravity(const Mesh &mesh) {
 }
 
 // The terms of the total potential, in assembly order: elastic cells, cloth bending hinges (-bending, surfaces in
-// 3D), contact with analytic obstacles (3D meshes), inertia and gravity.
+// 3D), contact with analytic obstacles (3D meshes), inertia and gravity, surface loads.
 template <int R, int C>
 PetscErrorCode DiscretizationT<R, C>::setupTerms(Mesh &mesh, const FemOptions &o, double dt) {
   PetscFunctionBeginUser;
@@ -132,6 +132,18 @@ PetscErrorCode DiscretizationT<R, C>::setupTerms(Mesh &mesh, const FemOptions &o
     if (!contact_->empty()) terms_.push_back(contact_.get());
   }
   PetscCall(addInertiaGravity(mesh));
+  if (!o.loads.empty()) {
+    loads_ = std::make_unique<SurfaceLoads<R>>(verts_);
+    PetscCall(loads_->setup(mesh, o.loads));
+    loads_->setLoad(step_.load);
+    if (!loads_->empty()) terms_.push_back(loads_.get());
+    if constexpr (R == 3 && C == 3) {
+      pressure_ = std::make_unique<FollowerPressure>(verts_);
+      PetscCall(pressure_->setup(mesh, o.loads));
+      pressure_->setLoad(step_.load);
+      if (!pressure_->empty()) terms_.push_back(pressure_.get());
+    }
+  }
   PetscFunctionReturn(0);
 }
 
@@ -143,6 +155,8 @@ PetscErrorCode DiscretizationT<R, C>::setStep(const StepState &step) {
   step_.prediction = nullptr;  // the stepper's vector: copied below, never kept
   if (moved && fields_.varies()) fields_.update(step_.time, step_.load, &cells_.cellData());
   inertia_->setTimeStep(step.dt);
+  if (loads_) loads_->setLoad(step.load);
+  if (pressure_) pressure_->setLoad(step.load);
   if (step.dt > 0.0 && step.prediction) {  // kept until a step brings a new one
     Vec loc;
     const PetscScalar *x;

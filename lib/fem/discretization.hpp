@@ -4,7 +4,7 @@
 // data), and the assembly of the energy, its gradient and its PSD-projected Hessian (BAIJ) from the closed-form
 // element kernels. One implementation per element shape (tet 3x3, planar 2x2, cloth 3x2), behind this interface
 // (discretization_impl.hpp lists its files); the total potential is a sum of terms (terms/term.hpp): elastic cells,
-// bending hinges, obstacle contact, inertia + gravity.
+// bending hinges, obstacle contact, inertia + gravity, surface loads.
 //
 // The unknown is the current position x (not the displacement); the global vector holds the free dofs only and a
 // local vector additionally holds ghost and Dirichlet values (fillBoundary writes the latter).

@@ -15,6 +15,8 @@
 #include "fem/terms/elastic_cells.hpp"
 #include "fem/terms/inertia_gravity.hpp"
 #include "fem/terms/obstacle_contact.hpp"
+#include "fem/terms/follower_pressure.hpp"
+#include "fem/terms/surface_loads.hpp"
 #include "fem/vertex_layout.hpp"
 
 #include <memory>
@@ -104,6 +106,8 @@ class DiscretizationT final : public Discretization, public DiagnosticsView, pub
   std::unique_ptr<BendingHinges> hinges_;          // -bending (cloth)
   std::unique_ptr<ObstacleContact> contact_;       // -obstacle_plane / -obstacle_sphere (3D)
   std::unique_ptr<InertiaGravity<R>> inertia_;     // backward Euler and -gravity
+  std::unique_ptr<SurfaceLoads<R>> loads_;         // -load_traction_<set>, -load_force_<set>
+  std::unique_ptr<FollowerPressure> pressure_;     // -load_pressure_<set> (tets)
   std::vector<const Term *> terms_;                // the active terms, in assembly order
   bool stashSized_ = false;  // the off-rank assembly buffer sized before the first Hessian assembly
 };

@@ -4,7 +4,12 @@
 #include "fem/fem_options.hpp"
 #include "fem/material_options.hpp"
 
+#include <algorithm>
+#include <sstream>
+
 namespace aries::fem {
+
+using core::OptionDecl;
 
 namespace {
 
@@ -42,6 +47,60 @@ PetscErrorCode readDynamics(int dim, DynamicsTerms *dyn) {
   PetscFunctionReturn(0);
 }
 
+// Every -load_traction_<set>, -load_force_<set> and -load_pressure_<set> given (the set is in the option's name, so the given options are
+// listed to find them).
+PetscErrorCode readLoads(int dim, bool tets, std::vector<SurfaceLoad> *loads) {
+  char *all = nullptr;
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsGetAll(nullptr, &all));
+  std::istringstream in(all ? all : "");
+  std::string token;
+  std::vector<std::string> names;
+  while (in >> token)
+    if (token.rfind("-load_", 0) == 0 && std::find(names.begin(), names.end(), token) == names.end())
+      names.push_back(token);
+  PetscCall(PetscFree(all));
+  for (const std::string &name : names) {
+    SurfaceLoad load;
+    const OptionDecl *decl = nullptr;
+    const std::pair<const char *, SurfaceLoad::Kind> families[] = {{"-load_traction_", SurfaceLoad::Kind::Traction},
+                                                                   {"-load_force_", SurfaceLoad::Kind::Force},
+                                                                   {"-load_pressure_", SurfaceLoad::Kind::Pressure}};
+    for (const auto &[family, kind] : families)
+      if (name.rfind(family, 0) == 0) {
+        load.set = name.substr(std::string(family).size());
+        load.kind = kind;
+        decl = kind == SurfaceLoad::Kind::Traction ? &opt::loadTraction
+               : kind == SurfaceLoad::Kind::Force  ? &opt::loadForce
+                                                   : &opt::loadPressure;
+      }
+    if (!decl) continue;  // not a load option: left to the unused-option check
+    if (load.set.empty())
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s names no boundary group (e.g. %stop)", name.c_str(),
+              name.c_str());
+    const std::string prefix = name.substr(1);
+    if (load.kind == SurfaceLoad::Kind::Pressure) {
+      if (!tets)
+        SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+                "option %s: a follower pressure acts on the closed surfaces of a tet mesh, not on a planar or cloth mesh",
+                name.c_str());
+      PetscCall(core::get(*decl, &load.value[0], nullptr, {prefix.c_str()}));
+      loads->push_back(load);
+      continue;
+    }
+    std::vector<PetscReal> v;
+    PetscCall(core::get(*decl, &v, nullptr, {prefix.c_str()}));
+    if (dim == 3 && v.size() != 3)
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s takes 3 comma-separated numbers on a 3D mesh, got %d",
+              name.c_str(), (int)v.size());
+    if (dim == 2 && v.size() == 3 && v[2] != 0.0)
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: a 2D mesh takes x,y (z must be 0)", name.c_str());
+    for (size_t k = 0; k < v.size(); ++k) load.value[k] = v[k];
+    loads->push_back(load);
+  }
+  PetscFunctionReturn(0);
+}
+
 }  // namespace
 
 PetscErrorCode readFemOptions(const Mesh &mesh, FemOptions *o) {
@@ -70,6 +129,7 @@ PetscErrorCode readFemOptions(const Mesh &mesh, FemOptions *o) {
   }
   if (cloth) PetscCall(core::get(opt::bending, &o->bending, &set));
   if (!planar) PetscCall(readObstacleOptions(mesh, &o->contact));
+  PetscCall(readLoads(planar ? 2 : 3, mesh.shape == energies::ElementShape::Tet, &o->loads));
   PetscFunctionReturn(0);
 }
 

@@ -25,6 +25,15 @@ struct DynamicsTerms {
   double density = 1000.0;
 };
 
+// A load on a boundary group: a dead traction or total force (-load_traction_<set>, -load_force_<set>;
+// terms/surface_loads.hpp) or a follower pressure (-load_pressure_<set>; terms/follower_pressure.hpp).
+struct SurfaceLoad {
+  enum class Kind { Traction, Force, Pressure };
+  std::string set;  // the gmsh physical group, id or name, as in the option's name
+  Kind kind = Kind::Traction;
+  Eigen::Vector3d value = Eigen::Vector3d::Zero();  // traction (force per rest area), total force, or (p, 0, 0)
+};
+
 struct FemOptions {
   std::vector<MaterialOptions> materials;  // [0] the global material, then the -regions entries in order
   DynamicsTerms dynamics;                  // -density, -gravity
@@ -33,6 +42,7 @@ struct FemOptions {
   bool keepOrientation = false;            // -keep_orientation (planar elements)
   double bending = 0.0;                    // -bending (cloth)
   ObstacleOptions contact;                 // 3D meshes
+  std::vector<SurfaceLoad> loads;          // in the order the options were given
 };
 
 // Reads and checks every option above for the mesh's element shape (only those that apply are read, so a stray one

@@ -160,6 +160,31 @@ inline constexpr OptionDecl gravity =
 
 inline constexpr const OptionDecl *kBodyForceOptions[] = {&density, &gravity};
 
+// ---- surface loads: one option per boundary group, the group in the name (-load_traction_top) ----
+inline constexpr OptionDecl loadTraction =
+    realsOption("-", "tx,ty,tz",
+                "dead traction (force per rest area) on the boundary group <set> (id or name: faces of a tet mesh, "
+                "edges of a planar or cloth mesh), ramped with the load parameter (tx,ty on a 2D mesh)")
+        .entries(3, 2)
+        .otherwise("none")
+        .inFamily("-load_traction_<set>");
+inline constexpr OptionDecl loadForce =
+    realsOption("-", "fx,fy,fz",
+                "total dead force on the boundary group <set>, spread over it by rest area (the traction F / area), "
+                "ramped with the load parameter (fx,fy on a 2D mesh)")
+        .entries(3, 2)
+        .otherwise("none")
+        .inFamily("-load_force_<set>");
+
+inline constexpr OptionDecl loadPressure =
+    realOption("-", "p",
+               "follower pressure on the closed boundary surface <set> of a tet mesh, against the body's outward "
+               "normal (p > 0 squeezes an outer surface, inflates a cavity), ramped with the load parameter")
+        .otherwise("none")
+        .inFamily("-load_pressure_<set>");
+
+inline constexpr const OptionDecl *kLoadOptions[] = {&loadTraction, &loadForce, &loadPressure};
+
 // ---- cloth: bending and contact; planar orientation ----
 inline constexpr OptionDecl bending =
     realOption("-bending", "k",

@@ -300,8 +300,11 @@ const char *labelForDimension(const Mesh &mesh, PetscInt dim) {
 }
 }  // namespace
 
-PetscErrorCode physicalGroupVertices(const Mesh &mesh, const std::string &idOrName, std::vector<PetscInt> *vertices,
-                                     bool *found) {
+namespace {
+
+// The points of a gmsh physical group on this rank (the strata that mark it), and whether any rank has one.
+PetscErrorCode physicalGroupPoints(const Mesh &mesh, const std::string &idOrName, std::vector<PetscInt> *points,
+                                   bool *found) {
   MPI_Comm comm;
   PetscFunctionBeginUser;
   PetscCall(PetscObjectGetComm((PetscObject)mesh.dm, &comm));
@@ -321,38 +324,60 @@ PetscErrorCode physicalGroupVertices(const Mesh &mesh, const std::string &idOrNa
       lookups.emplace_back(it->first, it->second.tag);
     }
   }
-  std::set<PetscInt> verts;
-  int localFound = 0;
-  {
-    for (const auto &[labelName, tag] : lookups) {
-      DMLabel label;
-      PetscCall(DMGetLabel(mesh.dm, labelName.c_str(), &label));
-      if (!label) continue;
-      IS points;
-      PetscCall(DMLabelGetStratumIS(label, tag, &points));
-      if (!points) continue;
-      PetscInt np;
-      const PetscInt *pts;
-      PetscCall(ISGetLocalSize(points, &np));
-      PetscCall(ISGetIndices(points, &pts));
-      for (PetscInt i = 0; i < np; ++i) {
-        PetscInt nc, *closure = nullptr;
-        PetscCall(DMPlexGetTransitiveClosure(mesh.dm, pts[i], PETSC_TRUE, &nc, &closure));
-        for (PetscInt k = 0; k < nc; ++k) {
-          const PetscInt q = closure[2 * k];
-          if (q >= mesh.vStart && q < mesh.vEnd) verts.insert(q);
-        }
-        PetscCall(DMPlexRestoreTransitiveClosure(mesh.dm, pts[i], PETSC_TRUE, &nc, &closure));
-      }
-      localFound = localFound || np > 0;
-      PetscCall(ISRestoreIndices(points, &pts));
-      PetscCall(ISDestroy(&points));
-    }
+  std::set<PetscInt> pts;
+  for (const auto &[labelName, tag] : lookups) {
+    DMLabel label;
+    PetscCall(DMGetLabel(mesh.dm, labelName.c_str(), &label));
+    if (!label) continue;
+    IS is;
+    PetscCall(DMLabelGetStratumIS(label, tag, &is));
+    if (!is) continue;
+    PetscInt np;
+    const PetscInt *p;
+    PetscCall(ISGetLocalSize(is, &np));
+    PetscCall(ISGetIndices(is, &p));
+    pts.insert(p, p + np);
+    PetscCall(ISRestoreIndices(is, &p));
+    PetscCall(ISDestroy(&is));
   }
-  int anyFound = 0;
+  int localFound = !pts.empty(), anyFound = 0;
   PetscCallMPI(MPI_Allreduce(&localFound, &anyFound, 1, MPI_INT, MPI_MAX, comm));
   *found = anyFound != 0;
+  points->assign(pts.begin(), pts.end());
+  PetscFunctionReturn(0);
+}
+
+}  // namespace
+
+PetscErrorCode physicalGroupVertices(const Mesh &mesh, const std::string &idOrName, std::vector<PetscInt> *vertices,
+                                     bool *found) {
+  std::vector<PetscInt> points;
+  PetscFunctionBeginUser;
+  PetscCall(physicalGroupPoints(mesh, idOrName, &points, found));
+  std::set<PetscInt> verts;
+  for (PetscInt point : points) {
+    PetscInt nc, *closure = nullptr;
+    PetscCall(DMPlexGetTransitiveClosure(mesh.dm, point, PETSC_TRUE, &nc, &closure));
+    for (PetscInt k = 0; k < nc; ++k) {
+      const PetscInt q = closure[2 * k];
+      if (q >= mesh.vStart && q < mesh.vEnd) verts.insert(q);
+    }
+    PetscCall(DMPlexRestoreTransitiveClosure(mesh.dm, point, PETSC_TRUE, &nc, &closure));
+  }
   vertices->assign(verts.begin(), verts.end());
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode physicalGroupFacets(const Mesh &mesh, const std::string &idOrName, std::vector<PetscInt> *facets,
+                                   bool *found) {
+  std::vector<PetscInt> points;
+  PetscInt fStart, fEnd;
+  PetscFunctionBeginUser;
+  PetscCall(physicalGroupPoints(mesh, idOrName, &points, found));
+  PetscCall(DMPlexGetHeightStratum(mesh.dm, 1, &fStart, &fEnd));
+  facets->clear();
+  for (PetscInt point : points)
+    if (point >= fStart && point < fEnd) facets->push_back(point);
   PetscFunctionReturn(0);
 }
 

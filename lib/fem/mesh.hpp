@@ -47,6 +47,10 @@ PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh);
 // "Face Sets", "Edge Sets" and "Vertex Sets". `found` is true if the set has points on any rank (collective).
 PetscErrorCode physicalGroupVertices(const Mesh &mesh, const std::string &idOrName, std::vector<PetscInt> *vertices,
                                      bool *found);
+// The facets (points of height 1: faces of a tet mesh, edges of a triangle mesh) of a physical group on this rank;
+// `found` as above (the group has points of any dimension on some rank).
+PetscErrorCode physicalGroupFacets(const Mesh &mesh, const std::string &idOrName, std::vector<PetscInt> *facets,
+                                   bool *found);
 
 // The label and value that mark the cells of a volume group (id or name): "Cell Sets", or the group's own label
 // under -dm_plex_gmsh_use_regions.

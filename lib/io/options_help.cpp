@@ -72,6 +72,7 @@ const std::vector<core::OptionSection> &optionSections() {
       section("singularity", "Singularity treatment (energies with I4/I6 terms)", fem::opt::kSingularityOptions),
       section("boundary", "Boundary conditions", fem::opt::kBoundaryOptions),
       section("body_forces", "Body forces", fem::opt::kBodyForceOptions),
+      section("loads", "Surface loads", fem::opt::kLoadOptions),
       section("stepping", "Time stepping and initial state", solver::opt::kSteppingOptions),
       section("newton", "Newton", solver::opt::kNewtonOptions),
       section("cloth", "Cloth and planar terms: bending, contact, orientation", fem::opt::kClothOptions),

@@ -58,8 +58,10 @@ CATALOG = {
     },
     "cube": {
         "test": {"n": 6, "tets": 6 * 6 ** 3},
+        "mid": {"n": 12, "tets": 6 * 12 ** 3},  # verification: the convergence study's middle size
         "default": {"n": 18, "tets": 6 * 18 ** 3},
         "paper": {"alias": "default"},
+        "fine": {"n": 24, "tets": 6 * 24 ** 3},
     },
     "armadillo": {
         "test": {"h": 0.07, "tets": 3816},
@@ -93,6 +95,14 @@ CATALOG = {
         "test": {"h": 0.06, "tets": 1832},
         "default": {"h": 0.025, "tets": 16638},
         "paper": {"alias": "default"},
+    },
+    # verification: Lame's thick sphere under internal pressure (inner radius 0.5, outer 1), h = 0.2 ... 0.05
+    "shell": {
+        "test": {"h": 0.2, "tets": 2338},
+        "default": {"h": 0.1, "tets": 18040},
+        "paper": {"alias": "default"},
+        "fine3": {"h": 0.07, "tets": 50330},
+        "fine4": {"h": 0.05, "tets": 138260},
     },
     # triangle surface meshes
     "cloth": {
@@ -128,6 +138,7 @@ PAPER = {  # the paper's meshes (Table 1: tets, Table 2: cloth triangles), for t
     "camel": "(not in the paper)",
     "cloth": "32,768",
     "disk": "(not in the paper)",
+    "shell": "(verification: Lame's sphere)",
     "lionhead": "Fig. 14 (count not given)",
     "nefertiti": "Fig. 14 (count not given)",
 }
@@ -280,6 +291,18 @@ def build_cylinder(p):
     m.add_face_set(2, "top", F[top])
     m.add_face_set(3, "side", F[~bottom & ~top])
     return m, {}, {"source": "gmsh OpenCASCADE cylinder, meshes/geo/cylinder.geo", "h": p["h"]}
+
+
+def build_shell(p):
+    m = mk.TetMesh(*gmsh_volume(read_geo("shell.geo"), {"h": p["h"]}))
+    m.drop_unused_nodes()
+    m.orient()
+    F, _ = m.boundary_faces()
+    r = np.linalg.norm(m.X[F].mean(1), axis=1)
+    inner = r < 0.75
+    m.add_face_set(1, "inner", F[inner])
+    m.add_face_set(2, "outer", F[~inner])
+    return m, {}, {"source": "gmsh OpenCASCADE sphere minus sphere, meshes/geo/shell.geo", "h": p["h"]}
 
 
 def build_cube(p):
@@ -603,7 +626,7 @@ def build_nefertiti(p):
 BUILDERS = {"cylinder": build_cylinder, "cube": build_cube, "armadillo": build_armadillo,
             "bunny": build_bunny, "octopus": build_octopus, "triceratops": build_triceratops,
             "hand": build_hand, "camel": build_camel, "cloth": build_cloth, "disk": build_disk,
-            "lionhead": build_lionhead, "nefertiti": build_nefertiti}
+            "lionhead": build_lionhead, "nefertiti": build_nefertiti, "shell": build_shell}
 
 
 def build(name, size, outdir):

@@ -1,8 +1,8 @@
-// One term of the total potential (elastic cells, bending hinges, obstacle contact, inertia + gravity): its value,
-// gradient, Hessian and true curvature on this rank's share of a local state (a DMPlex local vector, Dirichlet values
-// filled), each implemented once, in the term's own file. The discretization's objective, gradient, Hessian and
-// curvature Gram matrix are loops over the active terms (assembly.cpp), in a fixed order so results do not depend on
-// anything but the state.
+// One term of the total potential (elastic cells, bending hinges, obstacle contact, inertia + gravity, surface
+// loads): its value, gradient, Hessian and true curvature on this rank's share of a local state (a DMPlex local
+// vector, Dirichlet values filled), each implemented once, in the term's own file. The discretization's objective,
+// gradient, Hessian and curvature Gram matrix are loops over the active terms (assembly.cpp), in a fixed order so
+// results do not depend on anything but the state.
 #pragma once
 
 #include "energies/energy.hpp"
