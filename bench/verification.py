@@ -1,0 +1,178 @@
+#!/usr/bin/env python3
+"""The verification study: aries against exact solutions and published small-strain values, with the observed
+convergence order on three or more meshes. Writes docs/verification.md (generated; do not edit by hand).
+
+  /usr/bin/python3 bench/verification.py [--build build] [--ranks 2] [--out out/verification]
+
+Problems (each a function below, its reference in its docstring and in the report):
+  end_traction   unit cube, iarap nu = 0, bottom clamped, dead traction on the top: uniform stretch (exact)
+  hanging_bar    unit cube hanging from its top under its own weight, iarap nu = 0: u_z(Z) = -rho g (1 - Z^2) / (2 E)
+  lame_sphere    thick sphere (a = 0.5, b = 1) under internal follower pressure, small strain: Lame's u_r(r)
+"""
+import argparse
+import datetime
+import glob
+import math
+import os
+import subprocess
+import sys
+import time
+
+import h5py
+import numpy as np
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ARGS = None
+
+
+def mesh(name, size):
+    out = subprocess.run(["bash", os.path.join(ROOT, "meshes", "generate.sh"), name, size], capture_output=True,
+                         text=True, check=True)
+    return out.stdout.strip().splitlines()[-1]
+
+
+def run(tag, args):
+    """Runs aries; returns (rest, final positions, stats rows, wall seconds of the solve)."""
+    base = os.path.join(ARGS.out, tag)
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+               OMPI_MCA_rmaps_base_oversubscribe="1")
+    cmd = ["mpiexec", "--quiet", "-n", str(ARGS.ranks), "--bind-to", "none", os.path.join(ARGS.build, "aries")]
+    cmd += args + ["-output", base, "-output_every", "1000000", "-stats", base + ".csv", "-strict"]
+    p = subprocess.run(cmd, capture_output=True, text=True, env=env)
+    if p.returncode != 0:
+        sys.exit("verification: %s failed:\n%s" % (" ".join(cmd), (p.stdout + p.stderr)[-3000:]))
+    with h5py.File(base + ".h5") as f:
+        rest = f["/mesh/rest"][:]
+    with h5py.File(sorted(glob.glob(base + ".steps/*.h5"))[-1]) as f:
+        x = f["/positions"][:]
+    import csv
+    with open(base + ".csv") as fh:
+        rows = list(csv.DictReader(line for line in fh if not line.startswith("#")))
+    return rest, x, rows, sum(float(r["wall_s"]) for r in rows)
+
+
+def orders(hs, errs):
+    return [""] + ["%.2f" % (math.log(errs[k - 1] / errs[k]) / math.log(hs[k - 1] / hs[k]))
+                   if errs[k] > 0 and errs[k - 1] > 0 else "" for k in range(1, len(errs))]
+
+
+def table(head, rows):
+    out = "| " + " | ".join(head) + " |\n|" + "---|" * len(head) + "\n"
+    for r in rows:
+        out += "| " + " | ".join(str(c) for c in r) + " |\n"
+    return out
+
+
+def cube_sizes():
+    return [("test", 6), ("mid", 12), ("default", 18), ("fine", 24)]
+
+
+def end_traction():
+    """Unit cube [0,1]^3, iarap with E = 1e4, nu = 0 (lambda = 0: mu |F - R|^2), the bottom (z = 0) clamped, a dead
+    traction t = 2000 along z on the top (-load_traction_top), 3 load steps. Exact: F = diag(1, 1, 1 + t / E) (P = E (F -
+    I), the sides traction-free, the clamp compatible at nu = 0): u_z = 0.2 z, u_x = u_y = 0. A linear field: P1
+    reproduces it on every mesh (a patch test), so the error is the solver's (-newton_tol 1e-8: 1e-10 asks for steps
+    below what the energy's round-off can certify on the larger meshes, and the line search then fails)."""
+    rows = []
+    for size, n in cube_sizes():
+        rest, x, st, wall = run("traction_%s" % size, [
+            "-dm_plex_filename", mesh("cube", size), "-energy", "iarap", "-E", "1e4", "-nu", "0", "-bc_clamp", "bottom",
+            "-load_traction_top", "0,0,2000", "-steps", "3", "-newton_tol", "1e-8"])
+        exact = rest.copy()
+        exact[:, 2] *= 1.2
+        err = np.abs(x - exact).max() / np.linalg.norm(rest.max(0) - rest.min(0))
+        rows.append([size, 6 * n ** 3, "1/%d" % n, "%.2e" % err, "%.2f" % (sum(int(r["newton_its"]) for r in st) / len(st)),
+                     "%.2f" % wall])
+    return ("End traction: uniform stretch (exact)", end_traction.__doc__,
+            table(["mesh", "tets", "h", "max error / L", "Newton / step", "solve s"], rows))
+
+
+def hanging_bar():
+    """Unit cube [0,1]^3 hanging from its top face (z = 1, clamped) under its own weight: iarap with E = 1e4, nu = 0,
+    density 1000, g = 5 along -z (rho g / E = 0.5: the stretch grows linearly from 1 at the bottom to 1.5 at the
+    top). Exact (uniaxial, the lateral stretch 1 at nu = 0, so the clamp is compatible): P_zz = rho g z,
+    F = diag(1, 1, 1 + rho g z / E), u_z(z) = -rho g (1 - z^2) / (2 E). P1 with lumped gravity: order 2 expected."""
+    hs, errs, rows = [], [], []
+    for size, n in cube_sizes():
+        rest, x, st, wall = run("hanging_%s" % size, [
+            "-dm_plex_filename", mesh("cube", size), "-energy", "iarap", "-E", "1e4", "-nu", "0", "-bc_clamp", "top",
+            "-density", "1000", "-gravity", "0,0,-5", "-steps", "1", "-newton_tol", "1e-8"])
+        z = rest[:, 2]
+        exact = rest.copy()
+        exact[:, 2] = z - 0.5 * (1 - z ** 2) / 2.0
+        err = np.abs(x - exact).max() / np.linalg.norm(rest.max(0) - rest.min(0))
+        hs.append(1.0 / n)
+        errs.append(err)
+        rows.append([size, 6 * n ** 3, "1/%d" % n, "%.3e" % err, "%.2f" % (sum(int(r["newton_its"]) for r in st) / len(st)),
+                     "%.2f" % wall])
+    for r, o in zip(rows, orders(hs, errs)):
+        r.insert(4, o)
+    return ("Hanging bar under its own weight (exact, large stretch)", hanging_bar.__doc__,
+            table(["mesh", "tets", "h", "max nodal error / L", "order", "Newton / step", "solve s"], rows))
+
+
+def lame_sphere():
+    """Thick sphere, inner radius a = 0.5, outer b = 1 (meshes/generate.sh shell), iarap with E = 1e4, nu = 0.3, a
+    follower pressure p = 10 (1e-3 E: small strain) on the cavity (-load_pressure_inner), the body free. Reference:
+    Lame's solution of linear elasticity, u_r(r) = p a^3 / (E (b^3 - a^3)) ((1 - 2 nu) r + (1 + nu) b^3 / (2 r^2))
+    (Timoshenko & Goodier, Theory of Elasticity, 3rd ed., 1970, Sec. 137); iarap's small-strain limit is linear
+    elasticity with these Lame parameters. Error: the mean radial displacement of the cavity's wall vertices (after
+    removing the mean translation) against u_r(a), and the largest vertex error over max u_r."""
+    hs, errs, rows = [], [], []
+    E, nu, p, a, b = 1e4, 0.3, 10.0, 0.5, 1.0
+    ur_exact = lambda r: p * a ** 3 / (E * (b ** 3 - a ** 3)) * ((1 - 2 * nu) * r + (1 + nu) * b ** 3 / (2 * r ** 2))
+    for size, h in (("test", 0.2), ("default", 0.1), ("fine3", 0.07), ("fine4", 0.05)):
+        rest, x, st, wall = run("lame_%s" % size, [
+            "-dm_plex_filename", mesh("shell", size), "-energy", "iarap", "-E", str(E), "-nu", str(nu),
+            "-load_pressure_inner", str(p), "-steps", "1", "-newton_tol", "1e-10"])
+        u = x - rest
+        u -= u.mean(0)
+        r = np.linalg.norm(rest, axis=1)
+        ur = np.einsum("ij,ij->i", u, rest) / r
+        inner = r < a + 1e-6
+        err = abs(ur[inner].mean() - ur_exact(a)) / ur_exact(a)
+        vmax = np.abs(ur - ur_exact(r)).max() / ur_exact(r).max()
+        hs.append(h)
+        errs.append(err)
+        rows.append([size, "%d" % tets_of(size), "%g" % h, "%.4e" % ur[inner].mean(), "%.4e" % ur_exact(a),
+                     "%.2f%%" % (100 * err), "%.2f%%" % (100 * vmax),
+                     "%.2f" % (sum(int(q["newton_its"]) for q in st) / len(st)), "%.2f" % wall])
+    for row, o in zip(rows, orders(hs, errs)):
+        row.insert(6, o)
+    return ("Lame's thick sphere under internal pressure (small strain)", lame_sphere.__doc__,
+            table(["mesh", "tets", "h", "u_r(a) mean", "Lame u_r(a)", "error", "order", "max vertex error",
+                   "Newton / step", "solve s"], rows))
+
+
+def tets_of(size):
+    import json
+    with open(mesh("shell", size)[:-4] + ".json") as fh:
+        return json.load(fh)["tets"]
+
+
+def main():
+    global ARGS
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
+    ap.add_argument("--ranks", type=int, default=2)
+    ap.add_argument("--out", default=os.path.join(ROOT, "out", "verification"))
+    ARGS = ap.parse_args()
+    os.makedirs(ARGS.out, exist_ok=True)
+    start = time.time()
+    sections = [end_traction(), hanging_bar(), lame_sphere()]
+    commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True,
+                            text=True).stdout.strip()
+    doc = ["# Verification: exact solutions and reference values", "",
+           "<!-- generated by bench/verification.py; do not edit by hand -->", "",
+           "Made by `/usr/bin/python3 bench/verification.py` at commit %s on %s, %d MPI ranks, in %.0f s (%s). Errors are "
+           "relative to the rest bounding-box diagonal L unless stated; orders are log(e_k-1 / e_k) / log(h_k-1 / h_k)."
+           % (commit, datetime.date.today().isoformat(), ARGS.ranks, time.time() - start, os.uname().nodename), ""]
+    for title, text, tab in sections:
+        doc += ["## " + title, "", " ".join(line.strip() for line in text.strip().splitlines()), "", tab]
+    with open(os.path.join(ROOT, "docs", "verification.md"), "w") as fh:
+        fh.write("\n".join(doc))
+    print("\n".join(doc))
+
+
+if __name__ == "__main__":
+    main()
