@@ -167,6 +167,9 @@ def main():
            "Made by `/usr/bin/python3 bench/verification.py` at commit %s on %s, %d MPI ranks, in %.0f s (%s). Errors are "
            "relative to the rest bounding-box diagonal L unless stated; orders are log(e_k-1 / e_k) / log(h_k-1 / h_k)."
            % (commit, datetime.date.today().isoformat(), ARGS.ranks, time.time() - start, os.uname().nodename), ""]
+    doc += ["Patch tests (homogeneous deformations imposed on the whole boundary with `-bc_clamp_<set>_affine`, for every "
+            "energy on every element shape it supports) run in ctest: `e2e.patch_tests` (ctest/e2e.py, "
+            "case_patch_tests), on 1 and 2 ranks.", ""]
     for title, text, tab in sections:
         doc += ["## " + title, "", " ".join(line.strip() for line in text.strip().splitlines()), "", tab]
     with open(os.path.join(ROOT, "docs", "verification.md"), "w") as fh:

@@ -10,10 +10,10 @@ namespace aries::fem {
 using core::optionName;
 
 Eigen::Vector3d ClampSet::target(const Eigen::Vector3d &X, double s) const {
-  Eigen::Vector3d x = X;
+  Eigen::Vector3d x = X + s * (affine - Eigen::Matrix3d::Identity()) * X;
   if (angleDeg != 0.0) {
     const double angle = s * angleDeg * M_PI / 180.0;
-    x = center + Eigen::AngleAxisd(angle, axis) * (X - center);
+    x = center + Eigen::AngleAxisd(angle, axis) * (x - center);
   }
   return x + s * translate;
 }
@@ -28,6 +28,12 @@ PetscErrorCode readMotion(const std::string &prefix, ClampSet *c) {
   const core::ReadContext at{prefix.c_str()};
   PetscCall(core::get(opt::clampTranslate, &v, &set, at));
   c->translate = Eigen::Vector3d(v[0], v[1], v[2]);
+  PetscCall(core::get(opt::clampAffine, &v, &set, at));
+  if (set) {
+    const int d = v.size() == 9 ? 3 : 2;
+    for (int i = 0; i < d; ++i)
+      for (int j = 0; j < d; ++j) c->affine(i, j) = v[d * i + j];
+  }
   PetscCall(core::get(opt::clampRotate, &c->angleDeg, &set, at));
   if (set) {
     PetscCall(core::get(opt::clampAxis, &v, &set, at));

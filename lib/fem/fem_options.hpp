@@ -139,6 +139,13 @@ inline constexpr OptionDecl clampCenter =
         .inFamily("-bc_clamp_<id>_")
         .otherwise("rest centroid of the set")
         .entries(3);
+inline constexpr OptionDecl clampAffine =
+    realsOption("-affine", "a11,...,a33",
+                "a homogeneous deformation x = A X (about the origin, before the rotation and translation) the set "
+                "follows, A row by row: 9 numbers (4 on a 2D mesh), ramped as X + s (A - I) X")
+        .inFamily("-bc_clamp_<id>_")
+        .otherwise("identity")
+        .entries(9, 4);
 inline constexpr OptionDecl boxes =
     realsOption("-bc_box", "xmin,xmax,ymin,ymax,zmin,zmax[,...]",
                 "vertices inside box k (1-based, in the order given) are pinned at rest, or move by "
@@ -150,7 +157,7 @@ inline constexpr OptionDecl rampSteps =
         .atLeast(1);
 
 inline constexpr const OptionDecl *kBoundaryOptions[] = {&clamp,       &clampTranslate, &clampRotate, &clampAxis,
-                                                         &clampCenter, &boxes,          &rampSteps};
+                                                         &clampCenter, &clampAffine,    &boxes,      &rampSteps};
 
 // ---- body forces ----
 inline constexpr OptionDecl density =
