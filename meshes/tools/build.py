@@ -110,6 +110,15 @@ CATALOG = {
         "default": {"n": 128, "triangles": 2 * 128 ** 2},
         "paper": {"alias": "default"},
     },
+    # verification: Cook's membrane (a tapered panel, 48 wide, left edge 44 high, right edge 16 high), n x n panels
+    "cook": {
+        "test": {"n": 8, "triangles": 2 * 8 ** 2},
+        "s16": {"n": 16, "triangles": 2 * 16 ** 2},
+        "default": {"n": 32, "triangles": 2 * 32 ** 2},
+        "paper": {"alias": "default"},
+        "s64": {"n": 64, "triangles": 2 * 64 ** 2},
+        "s128": {"n": 128, "triangles": 2 * 128 ** 2},
+    },
     "disk": {
         "test": {"rings": 10, "triangles": 6 * 10 ** 2},
         "default": {"rings": 15, "triangles": 6 * 15 ** 2},
@@ -139,6 +148,7 @@ PAPER = {  # the paper's meshes (Table 1: tets, Table 2: cloth triangles), for t
     "cloth": "32,768",
     "disk": "(not in the paper)",
     "shell": "(verification: Lame's sphere)",
+    "cook": "(verification: Cook's membrane)",
     "lionhead": "Fig. 14 (count not given)",
     "nefertiti": "Fig. 14 (count not given)",
 }
@@ -520,6 +530,36 @@ def build_cloth(p):
                    "diagonal": "every grid square split along its (0,0)-(1,1) diagonal (direction [1,1])"}
 
 
+def build_cook(p):
+    """Cook's membrane (Cook 1974; the plane-stress benchmark of e.g. Simo & Rifai 1990): the quadrilateral panel with
+    corners (0,0), (48,44), (48,60), (0,44) in the plane z = 0, an n x n grid of the bilinear map of the unit square,
+    each cell split along its (0,0)-(1,1) diagonal: 2 n^2 triangles, normals +z. Edge groups: left (x = 0, clamped in
+    the benchmark) and right (x = 48, the shear load); vertex group tip = (48, 60), where the benchmark reads the
+    vertical displacement."""
+    n = p["n"]
+    g = np.linspace(0.0, 1.0, n + 1)
+    eta, xi = np.meshgrid(g, g, indexing="ij")
+    xi, eta = xi.ravel(), eta.ravel()
+    corners = np.array([[0.0, 0.0], [48.0, 44.0], [48.0, 60.0], [0.0, 44.0]])
+    P = (np.outer((1 - xi) * (1 - eta), corners[0]) + np.outer(xi * (1 - eta), corners[1])
+         + np.outer(xi * eta, corners[2]) + np.outer((1 - xi) * eta, corners[3]))
+    X = np.c_[P, np.zeros(len(P))]
+    N = n + 1
+    j, i = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
+    a = (i + N * j).ravel()
+    b, c, d = a + 1, a + 1 + N, a + N
+    T = np.stack([np.c_[a, b, c], np.c_[a, c, d]], 1).reshape(-1, 3)
+    m = mk.TriMesh(X, T, name="panel")
+    if m.orient_consistently() or m.orient_up((0.0, 0.0, 1.0)):
+        raise SystemExit("cook: triangles not generated +z oriented (bug)")
+    (loop,) = m.boundary_loops()
+    E = m.X[loop]
+    m.add_edge_set(1, "left", loop[(np.abs(E[:, :, 0]) < 1e-9).all(1)])
+    m.add_edge_set(2, "right", loop[(np.abs(E[:, :, 0] - 48.0) < 1e-9).all(1)])
+    m.add_vertex_set(11, "tip", [int(np.argmin(np.abs(m.X[:, 0] - 48.0) + np.abs(m.X[:, 1] - 60.0)))])
+    return m, {}, {"source": "structured bilinear map (meshes/tools/build.py)", "n": n}
+
+
 DISK_AMPLITUDE = 0.15
 
 
@@ -625,7 +665,8 @@ def build_nefertiti(p):
 
 BUILDERS = {"cylinder": build_cylinder, "cube": build_cube, "armadillo": build_armadillo,
             "bunny": build_bunny, "octopus": build_octopus, "triceratops": build_triceratops,
-            "hand": build_hand, "camel": build_camel, "cloth": build_cloth, "disk": build_disk,
+            "hand": build_hand, "camel": build_camel, "cloth": build_cloth, "cook": build_cook,
+            "disk": build_disk,
             "lionhead": build_lionhead, "nefertiti": build_nefertiti, "shell": build_shell}
 
 
