@@ -110,6 +110,14 @@ CATALOG = {
         "default": {"n": 128, "triangles": 2 * 128 ** 2},
         "paper": {"alias": "default"},
     },
+    # verification: a cantilever 10 long, 1 deep (nx x nx/10 cells)
+    "beam": {
+        "test": {"nx": 40, "triangles": 2 * 40 * 4},
+        "default": {"nx": 80, "triangles": 2 * 80 * 8},
+        "paper": {"alias": "default"},
+        "s160": {"nx": 160, "triangles": 2 * 160 * 16},
+        "s320": {"nx": 320, "triangles": 2 * 320 * 32},
+    },
     # verification: Cook's membrane (a tapered panel, 48 wide, left edge 44 high, right edge 16 high), n x n panels
     "cook": {
         "test": {"n": 8, "triangles": 2 * 8 ** 2},
@@ -149,6 +157,7 @@ PAPER = {  # the paper's meshes (Table 1: tets, Table 2: cloth triangles), for t
     "disk": "(not in the paper)",
     "shell": "(verification: Lame's sphere)",
     "cook": "(verification: Cook's membrane)",
+    "beam": "(verification: cantilever)",
     "lionhead": "Fig. 14 (count not given)",
     "nefertiti": "Fig. 14 (count not given)",
 }
@@ -530,6 +539,29 @@ def build_cloth(p):
                    "diagonal": "every grid square split along its (0,0)-(1,1) diagonal (direction [1,1])"}
 
 
+def build_beam(p):
+    """A cantilever [0,10] x [0,1] in the plane z = 0: nx x nx/10 square cells, each split along its (0,0)-(1,1)
+    diagonal (2 nx^2 / 10 triangles). Edge groups: left (x = 0, the clamp) and right (x = 10, the end load)."""
+    nx = p["nx"]
+    ny = nx // 10
+    gx, gy = np.linspace(0.0, 10.0, nx + 1), np.linspace(0.0, 1.0, ny + 1)
+    yy, xx = np.meshgrid(gy, gx, indexing="ij")
+    X = np.c_[xx.ravel(), yy.ravel(), np.zeros(xx.size)]
+    N = nx + 1
+    j, i = np.meshgrid(np.arange(ny), np.arange(nx), indexing="ij")
+    a = (i + N * j).ravel()
+    b, c, d = a + 1, a + 1 + N, a + N
+    T = np.stack([np.c_[a, b, c], np.c_[a, c, d]], 1).reshape(-1, 3)
+    m = mk.TriMesh(X, T, name="beam")
+    if m.orient_consistently() or m.orient_up((0.0, 0.0, 1.0)):
+        raise SystemExit("beam: triangles not generated +z oriented (bug)")
+    (loop,) = m.boundary_loops()
+    E = m.X[loop]
+    m.add_edge_set(1, "left", loop[(np.abs(E[:, :, 0]) < 1e-9).all(1)])
+    m.add_edge_set(2, "right", loop[(np.abs(E[:, :, 0] - 10.0) < 1e-9).all(1)])
+    return m, {}, {"source": "structured grid (meshes/tools/build.py)", "nx": nx}
+
+
 def build_cook(p):
     """Cook's membrane (Cook 1974; the plane-stress benchmark of e.g. Simo & Rifai 1990): the quadrilateral panel with
     corners (0,0), (48,44), (48,60), (0,44) in the plane z = 0, an n x n grid of the bilinear map of the unit square,
@@ -665,7 +697,7 @@ def build_nefertiti(p):
 
 BUILDERS = {"cylinder": build_cylinder, "cube": build_cube, "armadillo": build_armadillo,
             "bunny": build_bunny, "octopus": build_octopus, "triceratops": build_triceratops,
-            "hand": build_hand, "camel": build_camel, "cloth": build_cloth, "cook": build_cook,
+            "hand": build_hand, "camel": build_camel, "cloth": build_cloth, "cook": build_cook, "beam": build_beam,
             "disk": build_disk,
             "lionhead": build_lionhead, "nefertiti": build_nefertiti, "shell": build_shell}
 
