@@ -5,8 +5,8 @@ convergence order on three or more meshes. Writes docs/verification.md (generate
   /usr/bin/python3 bench/verification.py [--build build] [--ranks 2] [--out out/verification]
 
 Problems (each a function below, its reference in its docstring and in the report):
-  end_traction   unit cube, iarap nu = 0, bottom clamped, dead traction on the top: uniform stretch (exact)
-  hanging_bar    unit cube hanging from its top under its own weight, iarap nu = 0: u_z(Z) = -rho g (1 - Z^2) / (2 E)
+  end_traction   unit cube, bottom clamped, dead traction on the top: uniform stretch (exact), iarap / fiber / ortho
+  hanging_bar    unit cube hanging from its top under its own weight: uniaxial, exact, iarap / fiber / ortho
   lame_sphere    thick sphere (a = 0.5, b = 1) under internal follower pressure, small strain: Lame's u_r(r)
   cantilever     a plane-stress cantilever under an end load against Timoshenko beam theory
   cook_membrane  Cook's membrane, plane stress, small strain: the tip's vertical displacement against 23.96
@@ -69,48 +69,83 @@ def cube_sizes():
     return [("test", 6), ("mid", 12), ("default", 18), ("fine", 24)]
 
 
+# Materials whose uniaxial state along z is exact with the lateral stretch 1 (no Poisson effect), each with its
+# nominal stress P_zz(lambda) along z: iarap at nu = 0 (mu = E / 2, lambda = 0): E (l - 1); fiber = that + gamma/2
+# (I4(a) - 1)^2 with a = z and the paper's I4 = a^T S a = l (S = R^T F, the stretch): + gamma (l - 1); ortho
+# (lambda = 0) with mu_z on the basis direction z: 2 mu_z (l - 1).
+UNIAXIAL = [
+    ("iarap", ["-energy", "iarap", "-E", "1e4", "-nu", "0"], lambda l: 1e4 * (l - 1)),
+    ("fiber", ["-energy", "fiber", "-E", "1e4", "-nu", "0", "-gamma", "2000", "-fiber", "0,0,1"],
+     lambda l: 1e4 * (l - 1) + 2000 * (l - 1)),
+    ("ortho", ["-energy", "ortho", "-mu", "1", "-lambda", "0", "-ortho_mu", "2000,3000,5000", "-fiber", "1,0,0",
+               "-fiber2", "0,1,0"], lambda l: 2 * 5000 * (l - 1)),
+]
+
+
+def stretch_for(P, stress):
+    """The stretch l >= 1 with stress(l) = P (bisection; stress increasing)."""
+    lo, hi = 1.0, 3.0
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if stress(mid) < P else (lo, mid)
+    return 0.5 * (lo + hi)
+
+
 def end_traction():
-    """Unit cube [0,1]^3, iarap with E = 1e4, nu = 0 (lambda = 0: mu |F - R|^2), the bottom (z = 0) clamped, a dead
-    traction t = 2000 along z on the top (-load_traction_top), 3 load steps. Exact: F = diag(1, 1, 1 + t / E) (P = E (F -
-    I), the sides traction-free, the clamp compatible at nu = 0): u_z = 0.2 z, u_x = u_y = 0. A linear field: P1
-    reproduces it on every mesh (a patch test), so the error is the solver's (-newton_tol 1e-8: 1e-10 asks for steps
-    below what the energy's round-off can certify on the larger meshes, and the line search then fails)."""
+    """Unit cube [0,1]^3, the bottom (z = 0) clamped, a dead traction t = 2000 along z on the top (-load_traction_top),
+    3 load steps, for each material of UNIAXIAL (iarap at nu = 0; fiber with its fiber along z; ortho with mu_z = 5000
+    along z, lambda = 0). Exact: F = diag(1, 1, l) with P_zz(l) = t (the sides traction-free and the clamp compatible:
+    no lateral strain): u_z = (l - 1) z, u_x = u_y = 0. A linear field: P1 reproduces it on every mesh (a patch
+    test), so the error is the solver's (-newton_tol 1e-8: 1e-10 asks for steps below what the energy's round-off can
+    certify on the larger meshes, and the line search then fails)."""
     rows = []
-    for size, n in cube_sizes():
-        rest, x, st, wall = run("traction_%s" % size, [
-            "-dm_plex_filename", mesh("cube", size), "-energy", "iarap", "-E", "1e4", "-nu", "0", "-bc_clamp", "bottom",
-            "-load_traction_top", "0,0,2000", "-steps", "3", "-newton_tol", "1e-8"])
-        exact = rest.copy()
-        exact[:, 2] *= 1.2
-        err = np.abs(x - exact).max() / np.linalg.norm(rest.max(0) - rest.min(0))
-        rows.append([size, 6 * n ** 3, "1/%d" % n, "%.2e" % err, "%.2f" % (sum(int(r["newton_its"]) for r in st) / len(st)),
-                     "%.2f" % wall])
+    for energy, material, stress in UNIAXIAL:
+        l = stretch_for(2000.0, stress)
+        for size, n in cube_sizes():
+            rest, x, st, wall = run("traction_%s_%s" % (energy, size), [
+                "-dm_plex_filename", mesh("cube", size)] + material + ["-bc_clamp", "bottom", "-load_traction_top",
+                                                                       "0,0,2000", "-steps", "3", "-newton_tol", "1e-8"])
+            exact = rest.copy()
+            exact[:, 2] *= l
+            err = np.abs(x - exact).max() / np.linalg.norm(rest.max(0) - rest.min(0))
+            rows.append([energy, "%.6f" % l, size, 6 * n ** 3, "1/%d" % n, "%.2e" % err,
+                         "%.2f" % (sum(int(r["newton_its"]) for r in st) / len(st)), "%.2f" % wall])
     return ("End traction: uniform stretch (exact)", end_traction.__doc__,
-            table(["mesh", "tets", "h", "max error / L", "Newton / step", "solve s"], rows))
+            table(["energy", "stretch", "mesh", "tets", "h", "max error / L", "Newton / step", "solve s"], rows))
 
 
 def hanging_bar():
-    """Unit cube [0,1]^3 hanging from its top face (z = 1, clamped) under its own weight: iarap with E = 1e4, nu = 0,
-    density 1000, g = 5 along -z (rho g / E = 0.5: the stretch grows linearly from 1 at the bottom to 1.5 at the
-    top). Exact (uniaxial, the lateral stretch 1 at nu = 0, so the clamp is compatible): P_zz = rho g z,
-    F = diag(1, 1, 1 + rho g z / E), u_z(z) = -rho g (1 - z^2) / (2 E). P1 with lumped gravity: order 2 expected."""
-    hs, errs, rows = [], [], []
-    for size, n in cube_sizes():
-        rest, x, st, wall = run("hanging_%s" % size, [
-            "-dm_plex_filename", mesh("cube", size), "-energy", "iarap", "-E", "1e4", "-nu", "0", "-bc_clamp", "top",
-            "-density", "1000", "-gravity", "0,0,-5", "-steps", "1", "-newton_tol", "1e-8"])
-        z = rest[:, 2]
-        exact = rest.copy()
-        exact[:, 2] = z - 0.5 * (1 - z ** 2) / 2.0
-        err = np.abs(x - exact).max() / np.linalg.norm(rest.max(0) - rest.min(0))
-        hs.append(1.0 / n)
-        errs.append(err)
-        rows.append([size, 6 * n ** 3, "1/%d" % n, "%.3e" % err, "%.2f" % (sum(int(r["newton_its"]) for r in st) / len(st)),
-                     "%.2f" % wall])
-    for r, o in zip(rows, orders(hs, errs)):
-        r.insert(4, o)
+    """Unit cube [0,1]^3 hanging from its top face (z = 1, clamped) under its own weight, density 1000, g = 5 along -z
+    (rho g = 5000), for each material of UNIAXIAL (iarap: the stretch grows linearly from 1 at the bottom to 1.5 at the
+    top). Exact (uniaxial, no lateral strain, so the clamp is compatible): P_zz(l(z)) = rho g z, F = diag(1, 1, l(z)),
+    u_z(z) = -int_z^1 (l(s) - 1) ds (closed form for iarap: -rho g (1 - z^2) / (2 E); by quadrature otherwise). P1 with
+    lumped gravity: order 2 expected."""
+    rows = []
+    grid = np.linspace(0.0, 1.0, 4001)
+    for energy, material, stress in UNIAXIAL:
+        lam = np.array([stretch_for(5000.0 * z, stress) for z in grid])
+        # u_z at the grid points: minus the integral from z to 1 of (l - 1), trapezoidal on the fine grid.
+        seg = 0.5 * (lam[1:] + lam[:-1] - 2.0) * np.diff(grid)
+        uz = -np.concatenate([np.cumsum(seg[::-1])[::-1], [0.0]])
+        hs, errs, block = [], [], []
+        for size, n in cube_sizes():
+            rest, x, st, wall = run("hanging_%s_%s" % (energy, size), [
+                "-dm_plex_filename", mesh("cube", size)] + material + ["-bc_clamp", "top", "-density", "1000",
+                                                                       "-gravity", "0,0,-5", "-steps", "1",
+                                                                       "-newton_tol", "1e-8"])
+            exact = rest.copy()
+            exact[:, 2] += np.interp(rest[:, 2], grid, uz)
+            err = np.abs(x - exact).max() / np.linalg.norm(rest.max(0) - rest.min(0))
+            hs.append(1.0 / n)
+            errs.append(err)
+            block.append([energy, "%.4f" % lam[-1], size, 6 * n ** 3, "1/%d" % n, "%.3e" % err,
+                          "%.2f" % (sum(int(r["newton_its"]) for r in st) / len(st)), "%.2f" % wall])
+        for r, o in zip(block, orders(hs, errs)):
+            r.insert(6, o)
+        rows += block
     return ("Hanging bar under its own weight (exact, large stretch)", hanging_bar.__doc__,
-            table(["mesh", "tets", "h", "max nodal error / L", "order", "Newton / step", "solve s"], rows))
+            table(["energy", "top stretch", "mesh", "tets", "h", "max nodal error / L", "order", "Newton / step",
+                   "solve s"], rows))
 
 
 def lame_sphere():
