@@ -751,8 +751,7 @@ def case_rest_continued():
           "%.3e L" % (len(rows), sorted(set(r["reason"] for r in later)), max(updates), sum(updates), err))
     if len(rows) != 41:
         fail("expected 41 stats rows, got %d" % len(rows))
-    bad = [(r["step"], r["reason"]) for r in rows if r["reason"] not in
-           ("newton_step", "converged_initial", "step_bound", "energy_roundoff")]
+    bad = [(r["step"], r["reason"]) for r in rows if r["reason"] not in CONVERGED]
     if bad:
         fail("steps not converged: %s" % bad)
     if max(updates) > 1:

@@ -381,6 +381,38 @@ PetscErrorCode physicalGroupFacets(const Mesh &mesh, const std::string &idOrName
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode ownedGroupFacets(const Mesh &mesh, const std::vector<char> &copy, const std::string &idOrName,
+                                const std::string &option, const char *purpose, std::vector<PetscInt> *owned) {
+  std::vector<PetscInt> facets;
+  PetscInt pStart, pEnd;
+  bool found = false;
+  PetscFunctionBeginUser;
+  PetscCall(DMPlexGetChart(mesh.dm, &pStart, &pEnd));
+  PetscCall(physicalGroupFacets(mesh, idOrName, &facets, &found));
+  owned->clear();
+  for (PetscInt f : facets)
+    if (!copy[f - pStart]) owned->push_back(f);
+  PetscInt count = static_cast<PetscInt>(owned->size()), total = 0;
+  PetscCallMPI(MPI_Allreduce(&count, &total, 1, MPIU_INT, MPI_SUM, PetscObjectComm((PetscObject)mesh.dm)));
+  if (found && total > 0) PetscFunctionReturn(0);
+  std::string known;
+  PetscCall(describePhysicalGroups(mesh, &known));
+  SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: %s in mesh '%s' (%s; physical groups present: %s)",
+          option.c_str(), found ? "the group has no boundary facets" : "no such physical group", mesh.filename.c_str(),
+          purpose, known.c_str());
+}
+
+PetscErrorCode closureVertices(const Mesh &mesh, PetscInt point, std::vector<PetscInt> *vertices) {
+  PetscInt nc, *closure = nullptr;
+  PetscFunctionBeginUser;
+  vertices->clear();
+  PetscCall(DMPlexGetTransitiveClosure(mesh.dm, point, PETSC_TRUE, &nc, &closure));
+  for (PetscInt k = 0; k < nc; ++k)
+    if (closure[2 * k] >= mesh.vStart && closure[2 * k] < mesh.vEnd) vertices->push_back(closure[2 * k] - mesh.vStart);
+  PetscCall(DMPlexRestoreTransitiveClosure(mesh.dm, point, PETSC_TRUE, &nc, &closure));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode regionLabel(const Mesh &mesh, const std::string &idOrName, DMLabel *label, PetscInt *value) {
   PetscFunctionBeginUser;
   *label = nullptr;

@@ -51,6 +51,13 @@ PetscErrorCode physicalGroupVertices(const Mesh &mesh, const std::string &idOrNa
 // `found` as above (the group has points of any dimension on some rank).
 PetscErrorCode physicalGroupFacets(const Mesh &mesh, const std::string &idOrName, std::vector<PetscInt> *facets,
                                    bool *found);
+// The facets of a physical group this rank owns (`copy`: core::sharedLeafPoints of the DM), for the option `option`
+// that names it; a group not in the mesh, or without facets on any rank, is a one-line error naming the groups
+// present, `purpose` saying what the option needs. Collective.
+PetscErrorCode ownedGroupFacets(const Mesh &mesh, const std::vector<char> &copy, const std::string &idOrName,
+                                const std::string &option, const char *purpose, std::vector<PetscInt> *owned);
+// The vertices (local indices v - vStart) in the closure of a DM point, in closure order.
+PetscErrorCode closureVertices(const Mesh &mesh, PetscInt point, std::vector<PetscInt> *vertices);
 
 // The label and value that mark the cells of a volume group (id or name): "Cell Sets", or the group's own label
 // under -dm_plex_gmsh_use_regions.

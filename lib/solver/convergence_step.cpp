@@ -57,7 +57,7 @@ PetscErrorCode ConvergenceCheck::shapeDirection(NewtonContext &ctx, Direction &d
   // A predicted decrease below the energy's round-off cannot be measured by any line search.
   DirectionMeasures m;
   m.linearConverged = linearReason > 0;
-  m.iteration = static_cast<int>(d.iteration);
+  m.iteration = static_cast<int>(d.record.iteration);
   m.stepInf = stepInf;
   m.stepTol = ctx.stepTol;
   m.slope = slope;

@@ -233,12 +233,6 @@ PetscErrorCode NewtonSolver::setup(fem::Discretization &disc, const NewtonOption
   PetscFunctionReturn(0);
 }
 
-std::vector<std::string> NewtonSolver::stepNames() const {
-  std::vector<std::string> names;
-  for (const auto &step : steps_) names.emplace_back(step->name());
-  return names;
-}
-
 PetscErrorCode NewtonSolver::solve(Vec x, NewtonResult *result) {
   KSP ksp;
   PetscInt kspBefore, kspAfter;

@@ -56,10 +56,7 @@ class NewtonSolver {
   PetscErrorCode alphasAt(Vec xGlobal, std::vector<double> *alpha);
   // Total potential at a global state (Dirichlet values filled); `magnitude` as in Discretization::objective.
   PetscErrorCode energyAt(Vec xGlobal, PetscReal *value, PetscReal *magnitude);
-  const NewtonOptions &options() const { return opts_; }
   double alphaMin() const { return opts_.safeguard.alphaMin; }
-  // The strategies in the order they run (names as in newton_steps.hpp).
-  std::vector<std::string> stepNames() const;
 
  private:
   PetscErrorCode copySolverSettings(const NewtonSolver &base);

@@ -149,7 +149,6 @@ PetscErrorCode NewtonSolver::preCheck(SNESLineSearch, Vec X, Vec Y, PetscBool *c
   if (linearReason == KSP_DIVERGED_ITS) ++c.result.linearAtLimit;
   Direction &d = self->pending_;
   d = Direction{};
-  d.iteration = iter;
   d.record.iteration = iter;
   d.record.linearIterations = its;
   const kernels::EigenFilter filter = c.disc->eigenFilter();

@@ -84,8 +84,7 @@ struct NewtonContext {
 // The direction of the iteration in progress, from the linear solve to the end of its line search. The line search
 // steps from X to X - lambda Y; g . Y is the slope.
 struct Direction {
-  PetscInt iteration = 0;
-  IterationRecord record;
+  IterationRecord record;  // its iteration number included
   double energyBefore = 0.0;   // energy at X
   double slope = 0.0;          // g . Y
   double curvature = 0.0;      // Y^T H Y with the exact Hessian, when known
@@ -99,7 +98,6 @@ struct Direction {
 class NewtonStep {
  public:
   virtual ~NewtonStep() = default;
-  virtual const char *name() const = 0;
   virtual bool appliesToFinalCorrection() const { return false; }
   virtual PetscErrorCode beginSolve(NewtonContext &) { return 0; }
   // Before the line search: may change the direction Y (then *changed = true).
@@ -118,7 +116,6 @@ class NewtonStep {
 // (which CG on the singular system leaves undetermined) is removed before the convergence test and the line search.
 class RigidMotionRemoval final : public NewtonStep {
  public:
-  const char *name() const override { return "rigid_motion_removal"; }
   PetscErrorCode shapeDirection(NewtonContext &ctx, Direction &d, Vec X, Vec Y, Vec F, PetscBool *changed) override;
 };
 
@@ -128,9 +125,7 @@ class ConvergenceCheck final : public NewtonStep {
  public:
   explicit ConvergenceCheck(const ConvergenceOptions &o) : opts_(o) {}
   ~ConvergenceCheck() override;
-  const char *name() const override { return "convergence_check"; }
   PetscErrorCode setup(NewtonContext &ctx);  // after SNESSetFromOptions: the KSP's tolerance and test
-  double tolerance() const { return opts_.tol; }
   PetscErrorCode shapeDirection(NewtonContext &ctx, Direction &d, Vec X, Vec Y, Vec F, PetscBool *changed) override;
   // At iterate `it` whose residual g has norm fnorm: converged by the step bound? (sets *reason)
   PetscErrorCode testIterate(NewtonContext &ctx, PetscInt it, PetscReal fnorm, SNESConvergedReason *reason);
@@ -152,7 +147,6 @@ class SubspaceStep final : public NewtonStep {
  public:
   explicit SubspaceStep(const SubspaceOptions &o) : opts_(o) {}
   ~SubspaceStep() override;
-  const char *name() const override { return "subspace_step"; }
   PetscErrorCode beginSolve(NewtonContext &ctx) override;
   PetscErrorCode shapeDirection(NewtonContext &ctx, Direction &d, Vec X, Vec Y, Vec F, PetscBool *changed) override;
   PetscErrorCode finishUpdate(NewtonContext &ctx, const Direction &d, Vec xNew, double lambda) override;
@@ -170,7 +164,6 @@ class SubspaceStep final : public NewtonStep {
 class RotationalUpdate final : public NewtonStep {
  public:
   explicit RotationalUpdate(const RotationOptions &o) : opts_(o) {}
-  const char *name() const override { return "rotational_update"; }
   PetscErrorCode shapeDirection(NewtonContext &ctx, Direction &d, Vec X, Vec Y, Vec F, PetscBool *changed) override;
 
  private:
@@ -182,7 +175,6 @@ class RotationalUpdate final : public NewtonStep {
 class HessianFilter final : public NewtonStep {
  public:
   explicit HessianFilter(const FilterOptions &o) : opts_(o) {}
-  const char *name() const override { return "hessian_filter"; }
   PetscErrorCode beginSolve(NewtonContext &ctx) override;
   PetscErrorCode shapeDirection(NewtonContext &ctx, Direction &d, Vec X, Vec Y, Vec F, PetscBool *changed) override;
   PetscErrorCode finishUpdate(NewtonContext &ctx, const Direction &d, Vec xNew, double lambda) override;
@@ -196,9 +188,7 @@ class HessianFilter final : public NewtonStep {
 class AlphaSafeguard final : public NewtonStep {
  public:
   explicit AlphaSafeguard(const SafeguardOptions &o) : opts_(o) {}
-  const char *name() const override { return "alpha_safeguard"; }
   bool appliesToFinalCorrection() const override { return true; }
-  double alphaMin() const { return opts_.alphaMin; }
   PetscErrorCode shapeDirection(NewtonContext &ctx, Direction &d, Vec X, Vec Y, Vec F, PetscBool *changed) override;
   PetscErrorCode checkPoint(NewtonContext &ctx, Direction &d, Vec X, Vec W, PetscBool *changed) override;
   // alpha check of a state against reference alphas (the state before the step): true unless a guarded cell ends

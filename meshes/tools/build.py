@@ -516,11 +516,7 @@ def build_cloth(p):
     g = np.linspace(0.0, 1.0, n + 1)
     yy, xx = np.meshgrid(g, g, indexing="ij")
     X = np.c_[xx.ravel(), yy.ravel(), np.zeros(xx.size)]
-    N = n + 1
-    j, i = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
-    a = (i + N * j).ravel()
-    b, c, d = a + 1, a + 1 + N, a + N
-    T = np.stack([np.c_[a, b, c], np.c_[a, c, d]], 1).reshape(-1, 3)
+    T = grid_triangles(n, n)
     m = mk.TriMesh(X, T, name="cloth")
     if m.orient_consistently() or m.orient_up((0.0, 0.0, 1.0)):
         raise SystemExit("cloth: triangles not generated +z oriented (bug)")
@@ -539,6 +535,16 @@ def build_cloth(p):
                    "diagonal": "every grid square split along its (0,0)-(1,1) diagonal (direction [1,1])"}
 
 
+def grid_triangles(nx, ny):
+    """The triangles of an nx x ny grid of nodes i + (nx+1) j (i fastest): cell (i, j) with corners a = (i,j),
+    b = (i+1,j), c = (i+1,j+1), d = (i,j+1) gives (a, b, c) then (a, c, d); cells in row-major order (i fastest)."""
+    N = nx + 1
+    j, i = np.meshgrid(np.arange(ny), np.arange(nx), indexing="ij")
+    a = (i + N * j).ravel()
+    b, c, d = a + 1, a + 1 + N, a + N
+    return np.stack([np.c_[a, b, c], np.c_[a, c, d]], 1).reshape(-1, 3)
+
+
 def build_beam(p):
     """A cantilever [0,10] x [0,1] in the plane z = 0: nx x nx/10 square cells, each split along its (0,0)-(1,1)
     diagonal (2 nx^2 / 10 triangles). Edge groups: left (x = 0, the clamp) and right (x = 10, the end load)."""
@@ -547,11 +553,7 @@ def build_beam(p):
     gx, gy = np.linspace(0.0, 10.0, nx + 1), np.linspace(0.0, 1.0, ny + 1)
     yy, xx = np.meshgrid(gy, gx, indexing="ij")
     X = np.c_[xx.ravel(), yy.ravel(), np.zeros(xx.size)]
-    N = nx + 1
-    j, i = np.meshgrid(np.arange(ny), np.arange(nx), indexing="ij")
-    a = (i + N * j).ravel()
-    b, c, d = a + 1, a + 1 + N, a + N
-    T = np.stack([np.c_[a, b, c], np.c_[a, c, d]], 1).reshape(-1, 3)
+    T = grid_triangles(nx, ny)
     m = mk.TriMesh(X, T, name="beam")
     if m.orient_consistently() or m.orient_up((0.0, 0.0, 1.0)):
         raise SystemExit("beam: triangles not generated +z oriented (bug)")
@@ -576,11 +578,7 @@ def build_cook(p):
     P = (np.outer((1 - xi) * (1 - eta), corners[0]) + np.outer(xi * (1 - eta), corners[1])
          + np.outer(xi * eta, corners[2]) + np.outer((1 - xi) * eta, corners[3]))
     X = np.c_[P, np.zeros(len(P))]
-    N = n + 1
-    j, i = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
-    a = (i + N * j).ravel()
-    b, c, d = a + 1, a + 1 + N, a + N
-    T = np.stack([np.c_[a, b, c], np.c_[a, c, d]], 1).reshape(-1, 3)
+    T = grid_triangles(n, n)
     m = mk.TriMesh(X, T, name="panel")
     if m.orient_consistently() or m.orient_up((0.0, 0.0, 1.0)):
         raise SystemExit("cook: triangles not generated +z oriented (bug)")

@@ -55,22 +55,10 @@ PetscErrorCode FollowerPressure::setup(const Mesh &mesh, const std::vector<Surfa
   for (const SurfaceLoad &load : loads) {
     if (load.kind != SurfaceLoad::Kind::Pressure) continue;
     const int set = static_cast<int>(loads_++);
-    std::vector<PetscInt> facets, owned;
-    bool found = false;
-    PetscCall(physicalGroupFacets(mesh, load.set, &facets, &found));
-    for (PetscInt f : facets)
-      if (!copy[f - pStart]) owned.push_back(f);
-    PetscInt count = static_cast<PetscInt>(owned.size()), total = 0, open = 0;
-    PetscCallMPI(MPI_Allreduce(&count, &total, 1, MPIU_INT, MPI_SUM, comm));
-    if (!found || total == 0) {
-      std::string known;
-      PetscCall(describePhysicalGroups(mesh, &known));
-      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
-              "option -load_pressure_%s: %s in mesh '%s' (a pressure acts on a closed boundary surface of a tet "
-              "mesh; physical groups present: %s)",
-              load.set.c_str(), found ? "the group has no boundary faces" : "no such physical group",
-              mesh.filename.c_str(), known.c_str());
-    }
+    std::vector<PetscInt> owned;
+    PetscInt open = 0;
+    PetscCall(ownedGroupFacets(mesh, copy, load.set, "-load_pressure_" + load.set,
+                               "a pressure acts on a closed boundary surface of a tet mesh", &owned));
     PetscCall(openEdges(mesh.dm, owned, pStart, pEnd, copy, &open));
     if (open > 0)
       SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
@@ -79,30 +67,22 @@ PetscErrorCode FollowerPressure::setup(const Mesh &mesh, const std::vector<Surfa
               load.set.c_str(), (int)open);
     double centroid[4] = {0, 0, 0, 0}, sums[4];
     for (PetscInt f : owned) {
-      PetscInt nc, *closure = nullptr, support = -1, ns;
+      PetscInt ns;
       const PetscInt *supp;
-      std::array<PetscInt, 3> tri{};
-      int k3 = 0;
-      PetscCall(DMPlexGetTransitiveClosure(mesh.dm, f, PETSC_TRUE, &nc, &closure));
-      for (PetscInt k = 0; k < nc; ++k)
-        if (closure[2 * k] >= mesh.vStart && closure[2 * k] < mesh.vEnd && k3 < 3) tri[k3++] = closure[2 * k] - mesh.vStart;
-      PetscCall(DMPlexRestoreTransitiveClosure(mesh.dm, f, PETSC_TRUE, &nc, &closure));
+      std::vector<PetscInt> vs, cell;
+      PetscCall(closureVertices(mesh, f, &vs));
       PetscCall(DMPlexGetSupportSize(mesh.dm, f, &ns));
       PetscCall(DMPlexGetSupport(mesh.dm, f, &supp));
-      if (ns != 1 || k3 != 3)
+      if (ns != 1 || vs.size() != 3)
         SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
                 "option -load_pressure_%s: the group has a face inside the body (a pressure acts on boundary faces)",
                 load.set.c_str());
-      support = supp[0];
+      std::array<PetscInt, 3> tri = {vs[0], vs[1], vs[2]};
       // Outward: away from the cell's fourth vertex.
-      PetscCall(DMPlexGetTransitiveClosure(mesh.dm, support, PETSC_TRUE, &nc, &closure));
+      PetscCall(closureVertices(mesh, supp[0], &cell));
       Eigen::Vector3d inner = Eigen::Vector3d::Zero();
-      for (PetscInt k = 0; k < nc; ++k) {
-        const PetscInt q = closure[2 * k];
-        if (q >= mesh.vStart && q < mesh.vEnd && std::find(tri.begin(), tri.end(), q - mesh.vStart) == tri.end())
-          inner = verts_[q - mesh.vStart].rest;
-      }
-      PetscCall(DMPlexRestoreTransitiveClosure(mesh.dm, support, PETSC_TRUE, &nc, &closure));
+      for (PetscInt v : cell)
+        if (std::find(tri.begin(), tri.end(), v) == tri.end()) inner = verts_[v].rest;
       const Eigen::Vector3d &X0 = verts_[tri[0]].rest;
       const Eigen::Vector3d n = (verts_[tri[1]].rest - X0).cross(verts_[tri[2]].rest - X0);
       if (n.dot(inner - X0) > 0.0) std::swap(tri[1], tri[2]);
