@@ -127,6 +127,15 @@ def case_defs():
     d["density_zero"] = (lambda: ["-dm_plex_filename", good_mesh(), "-density", "0"], r"option -density must be > 0")
     d["unknown_bc_set"] = (lambda: ["-dm_plex_filename", good_mesh(), "-bc_clamp", "top"],
                            r"option -bc_clamp: boundary set 'top' does not exist in mesh .*physical groups present")
+    d["clamp_components_unknown"] = (lambda: ["-dm_plex_filename", good_mesh(), "-bc_clamp", "1",
+                                              "-bc_clamp_1_components", "x,w"],
+                                     r"option -bc_clamp_1_components: 'w' is not a component \(components are x, y, z")
+    d["clamp_components_twice"] = (lambda: ["-dm_plex_filename", good_mesh(), "-bc_box", "0,1,0,1,0,1",
+                                            "-bc_box_1_components", "z,z"],
+                                   r"option -bc_box_1_components: 'z' is listed twice")
+    d["clamp_components_z_2d"] = (lambda: ["-dm_plex_filename", write("flat_tri.msh", TRI_MSH.replace("Z", "0")),
+                                           "-bc_box", "0,0.1,0,0.1,-1,1", "-bc_box_1_components", "x,z"],
+                                  r"option -bc_box_1_components: z on a 2D mesh \(use x, y\)")
     d["load_unknown_set"] = (lambda: ["-dm_plex_filename", good_mesh(), "-load_traction_top", "0,0,1"],
                              r"option -load_traction_top: no such physical group in mesh .*physical groups present")
     d["load_volume_group"] = (lambda: ["-dm_plex_filename", good_mesh(), "-load_force_body", "0,0,1"],

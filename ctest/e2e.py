@@ -229,6 +229,72 @@ def case_surface_loads():
             fail("%s: the left edge's reaction %.10g does not balance %g" % (shape, reaction, t_edge))
 
 
+def case_symmetry_supports():
+    """Supports in some components only (-bc_clamp_<id>_components). (1) The unit cube on three rollers (bottom held in
+    z, left in x, front in y) under the dead traction t = 2000 on its top (iarap, E = 1e4, nu = 0.3, 3 load steps): the
+    exact state is homogeneous uniaxial stress, F = diag(a, a, c) with P_xx = 2 mu (a - 1) + lambda (J - 1) a c = 0 and
+    P_zz = 2 mu (c - 1) + lambda (J - 1) a^2 = t (J = a^2 c), which P1 reproduces: every vertex within 1e-8 L of it (a
+    roller that held a free component would stop the lateral contraction), the bottom's z reaction balancing t, the
+    left's x reaction zero. (2) Cook's membrane as a thin slab (meshes/generate.sh cook_slab: the upper half of a slab
+    1 thick), its left face held in x, y, the symmetry plane z = 0 held in z, half the shear on the half's right face:
+    the held components stay exactly at rest, the free ones move (z on the left face: the Poisson contraction), and
+    the midpoint of the loaded edge moves by u E t / F within 10% of the plane-stress linear triangles' value on the
+    same 8 x 8 grid, 17.33 (an independent numpy code: bench/verification.py cook_cst; both are too stiff in bending
+    on this coarse grid, the converged value is 23.96)."""
+    tag = "symmetry_np%d" % ARGS.ranks
+    E, nu, t = 1e4, 0.3, 2000.0
+    mu, lam = E / (2 * (1 + nu)), E * nu / ((1 + nu) * (1 - 2 * nu))
+    run(["-dm_plex_filename", mesh("cube"), "-energy", "iarap", "-E", str(E), "-nu", str(nu),
+         "-bc_clamp", "bottom,left,front", "-bc_clamp_bottom_components", "z", "-bc_clamp_left_components", "x",
+         "-bc_clamp_front_components", "y", "-load_traction_top", "0,0,%g" % t, "-steps", "3", "-newton_tol", "1e-10",
+         "-strict", "-output", out_base(tag), "-output_every", "3", "-stats", out_base(tag) + ".csv",
+         "-reactions", out_base(tag) + "_reactions.csv"], tag=tag)
+    a, c = 1.0, 1.0 + t / E
+    for _ in range(50):  # Newton on (P_xx, P_zz - t) for (a, c)
+        J = a * a * c
+        r = np.array([2 * mu * (a - 1) + lam * (J - 1) * a * c, 2 * mu * (c - 1) + lam * (J - 1) * a * a - t])
+        jac = np.array([[2 * mu + lam * (2 * a * c * a * c + (J - 1) * c), lam * (a * a * a * c + (J - 1) * a)],
+                        [lam * 2 * a * c * a * a + lam * (J - 1) * 2 * a, 2 * mu + lam * a ** 4]])
+        a, c = np.array([a, c]) - np.linalg.solve(jac, r)
+    rest, _, x, _ = read_state(out_base(tag))
+    L = np.linalg.norm(rest.max(0) - rest.min(0))
+    err = np.abs(x - rest * np.array([a, a, c])).max() / L
+    reasons = [q["reason"] for q in stats(out_base(tag) + ".csv")]
+    react = {q["set"]: q for q in stats(out_base(tag) + "_reactions.csv")}
+    fz, fx = float(react["bottom"]["fz"]), float(react["left"]["fx"])
+    print("rollers: exact a = %.10f, c = %.10f; max |x - exact| = %.3e L (limit 1e-8); bottom fz %.10g (applied %g), "
+          "left fx %.3e; reasons %s" % (a, c, err, fz, t, fx, reasons))
+    if not all(q in CONVERGED for q in reasons):
+        fail("a roller step did not converge: %s" % reasons)
+    if not err <= 1e-8:
+        fail("the rollers miss the exact homogeneous uniaxial state by %.3e L" % err)
+    if not (abs(fz + t) <= 1e-8 * t and abs(fx) <= 1e-8 * t):
+        fail("roller reactions: bottom fz %.10g should balance %g, left fx %.3e should vanish" % (fz, t, fx))
+
+    sub = tag + "_cook_slab"
+    F = 0.1
+    run(["-dm_plex_filename", mesh("cook_slab"), "-energy", "iarap", "-mu", str(0.375 * E), "-lambda", str(0.75 * E),
+         "-bc_clamp", "left,mid", "-bc_clamp_left_components", "x,y", "-bc_clamp_mid_components", "z",
+         "-load_force_right", "0,%g,0" % (F / 2), "-steps", "1", "-newton_tol", "1e-9", "-strict", "-output",
+         out_base(sub), "-stats", out_base(sub) + ".csv"], tag=sub)
+    rest, _, x, _ = read_state(out_base(sub))
+    u = x - rest
+    left, mid = rest[:, 0] < 1e-9, rest[:, 2] < 1e-9
+    k = int(np.argmin(np.abs(rest[:, 0] - 48.0) + np.abs(rest[:, 1] - 52.0) + np.abs(rest[:, 2])))
+    value = u[k, 1] * E / F
+    held = max(np.abs(u[left][:, :2]).max(), np.abs(u[mid][:, 2]).max())
+    free = min(np.abs(u[left & ~mid][:, 2]).max(), np.abs(u[mid][:, :2]).max())
+    reasons = [q["reason"] for q in stats(out_base(sub) + ".csv")]
+    print("cook slab: held components move %.3e, free ones up to %.3e; u(48,52) E t / F = %.4f (plane-stress P1 on "
+          "this grid 17.33); reasons %s" % (held, free, value, reasons))
+    if not all(q in CONVERGED for q in reasons):
+        fail("the Cook slab did not converge: %s" % reasons)
+    if held != 0.0 or not free > 1e-9:
+        fail("component supports: held components moved by %.3e, or the free ones did not move (%.3e)" % (held, free))
+    if not abs(value - 17.33) <= 0.1 * 17.33:
+        fail("the Cook slab's u E t / F = %.4f is not within 10%% of the plane-stress P1 value 17.33" % value)
+
+
 def lame_sphere_ur(r, p, E, nu, a, b):
     """Radial displacement of Lame's thick sphere (inner radius a, outer b) under internal pressure p, small strain
     (e.g. Timoshenko & Goodier, Theory of Elasticity, 3rd ed., Sec. 137)."""
@@ -1464,6 +1530,7 @@ CASES = {
     "ranks_agree": case_ranks_agree,
     "safeguard_basic": lambda: case_safeguard("basic"),
     "safeguard_l2": lambda: case_safeguard("l2"),
+    "symmetry_supports": case_symmetry_supports,
     "kim_aa_fails": case_kim_aa_fails,
     "no_false_convergence": case_no_false_convergence,
     "cloth_hang": case_cloth_hang,

@@ -20,12 +20,28 @@ Eigen::Vector3d ClampSet::target(const Eigen::Vector3d &X, double s) const {
 
 namespace {
 
-// The motion options of one set: <prefix>translate, rotate, axis, center.
+// The motion options of one set: <prefix>translate, rotate, axis, center, affine, components.
 PetscErrorCode readMotion(const std::string &prefix, ClampSet *c) {
   std::vector<PetscReal> v;
+  std::vector<std::string> comps;
   PetscBool set = PETSC_FALSE;
   PetscFunctionBeginUser;
   const core::ReadContext at{prefix.c_str()};
+  PetscCall(core::get(opt::clampComponents, &comps, &set, at));
+  if (set) {
+    c->componentsGiven = true;
+    c->components = 0;
+    for (const auto &w : comps) {
+      const unsigned bit = w == "x" ? 1u : w == "y" ? 2u : w == "z" ? 4u : 0u;
+      if (!bit || (c->components & bit))
+        SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: '%s' is %s (components are x, y, z, each once)",
+                optionName(prefix.c_str(), "-components").c_str(), w.c_str(), bit ? "listed twice" : "not a component");
+      c->components |= bit;
+    }
+    if (!c->components)
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s lists no component (x, y, z)",
+              optionName(prefix.c_str(), "-components").c_str());
+  }
   PetscCall(core::get(opt::clampTranslate, &v, &set, at));
   c->translate = Eigen::Vector3d(v[0], v[1], v[2]);
   PetscCall(core::get(opt::clampAffine, &v, &set, at));

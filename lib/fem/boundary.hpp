@@ -5,10 +5,12 @@
 //   -bc_clamp_<id>_axis x,y,z          ... this axis (default 0,0,1) through ...
 //   -bc_clamp_<id>_center x,y,z        ... this point (default: centroid of the set at rest)
 //   -bc_clamp_<id>_affine a11,...,a33  a homogeneous deformation x = A X (about the origin), applied first
+//   -bc_clamp_<id>_components x,z      only these components are prescribed (symmetry planes, rollers)
 //   -bc_box xmin,xmax,ymin,ymax,zmin,zmax[,...]   vertices inside box k (1-based) are prescribed, pinned at rest
-//   -bc_box_<k>_translate|rotate|axis|center       unless moved like a clamp set (handles)
+//   -bc_box_<k>_translate|rotate|axis|center|components   unless moved like a clamp set (handles)
 //   -bc_ramp_steps K                   the load parameter s = min(1, step / K) (default: all steps)
-// A vertex in several sets follows the first set listed. Prescribed position at load s:
+// A vertex in several sets is held in the union of their components, each component by the first set (clamp sets in
+// the order listed, then boxes) that prescribes it. Prescribed position at load s:
 //   x = c + Rot(axis, s * angle) (X' - c) + s * translate,  X' = X + s (A - I) X.
 #pragma once
 
@@ -30,6 +32,8 @@ struct ClampSet {
   Eigen::Vector3d center = Eigen::Vector3d::Zero();
   bool centerGiven = false;
   Eigen::Matrix3d affine = Eigen::Matrix3d::Identity();  // x = A X about the origin, first
+  unsigned components = 0b111;                           // bit i: component i is prescribed
+  bool componentsGiven = false;                          // -bc_clamp_<id>_components set (z on a 2D mesh: an error)
 
   Eigen::Vector3d target(const Eigen::Vector3d &X, double s) const;
 };

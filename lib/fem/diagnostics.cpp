@@ -130,6 +130,12 @@ PetscErrorCode DiscretizationT<R, C>::gatherVertexReactions(Vec xLocal, std::vec
   Vec g;
   PetscCall(VecDuplicate(xLocal, &g));
   PetscCall(gradient(xLocal, g));  // each rank: its own cells' share at every local vertex (summed by the gather)
+  PetscScalar *ga;
+  PetscCall(VecGetArray(g, &ga));
+  for (const auto &vi : verts_)  // the support force only: zero in the free components of a partly held vertex
+    for (int i = 0; i < R; ++i)
+      if (vi.bcSet >= 0 && !vi.fixed(i)) ga[vi.loc + i] = 0.0;
+  PetscCall(VecRestoreArray(g, &ga));
   PetscCall(gatherLocalVertexValues(g, [](const VertexInfo &vi) { return vi.bcSet >= 0; }, true, values));
   PetscCall(VecDestroy(&g));
   PetscFunctionReturn(0);
@@ -167,9 +173,9 @@ PetscErrorCode DiscretizationT<R, C>::reactionForce(Vec xLocal, size_t set, Eige
   const PetscScalar *ga;
   PetscCall(VecGetArrayRead(g, &ga));
   double f[3] = {0, 0, 0}, tot[3];
-  for (const auto &vi : verts_)
-    if (vi.bcSet == static_cast<int>(set))
-      for (int i = 0; i < R; ++i) f[i] += ga[vi.loc + i];
+  for (const auto &vi : verts_)  // each component to the set that prescribes it
+    for (int i = 0; i < R; ++i)
+      if (vi.fixedBy[i] == static_cast<int>(set)) f[i] += ga[vi.loc + i];
   PetscCall(VecRestoreArrayRead(g, &ga));
   PetscCall(VecDestroy(&g));
   PetscCallMPI(MPI_Allreduce(f, tot, 3, MPI_DOUBLE, MPI_SUM, comm()));

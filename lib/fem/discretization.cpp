@@ -70,7 +70,7 @@ PetscErrorCode DiscretizationT<R, C>::detachedCopy(Mesh &mesh, std::unique_ptr<D
   std::vector<Eigen::Vector3d> rest(verts_.size());
   for (size_t v = 0; v < verts_.size(); ++v) rest[v] = verts_[v].rest;
   PetscCall(DMPlexGetChart(mesh.dm, &pStart, &pEnd));
-  PetscCall(d->layoutDofs(mesh, rest, std::vector<PetscInt>(pEnd - pStart, PETSC_MAX_INT)));
+  PetscCall(d->layoutDofs(mesh, rest, std::vector<PetscInt>(3 * (pEnd - pStart), PETSC_MAX_INT)));
   d->cells_.cells() = cells_.cells();
   d->cells_.cellData() = cells_.cellData();
   d->restFibers_ = restFibers_;
@@ -177,10 +177,8 @@ PetscErrorCode DiscretizationT<R, C>::fillBoundary(Vec xLocal) const {
   PetscFunctionBeginUser;
   PetscCall(VecGetArray(xLocal, &x));
   for (const auto &vi : verts_)
-    if (vi.bcSet >= 0) {
-      const Eigen::Vector3d t = bc_.sets[vi.bcSet].target(vi.rest, step_.load);
-      for (int i = 0; i < R; ++i) x[vi.loc + i] = t[i];
-    }
+    for (int i = 0; i < R; ++i)
+      if (vi.fixed(i)) x[vi.loc + i] = bc_.sets[vi.fixedBy[i]].target(vi.rest, step_.load)[i];
   PetscCall(VecRestoreArray(xLocal, &x));
   PetscFunctionReturn(0);
 }
@@ -193,18 +191,21 @@ PetscErrorCode DiscretizationT<R, C>::restPositions(Vec xGlobal) const {
   PetscCall(VecGetOwnershipRange(xGlobal, &lo, nullptr));
   PetscCall(VecGetArray(xGlobal, &x));
   for (const auto &vi : verts_)
-    if (vi.ownedFree())
-      for (int i = 0; i < R; ++i) x[vi.global - lo + i] = vi.rest[i];
+    if (vi.owned)
+      for (int i = 0; i < R; ++i)
+        if (!vi.fixed(i)) x[vi.row(i) - lo] = vi.rest[i];
   PetscCall(VecRestoreArray(xGlobal, &x));
   PetscFunctionReturn(0);
 }
 
 template <int R, int C>
 void DiscretizationT<R, C>::forEachOwnedFreeVertex(
-    const std::function<void(PetscInt, PetscInt, PetscInt, const Eigen::Vector3d &)> &fn) const {
+    const std::function<void(PetscInt, PetscInt, const PetscInt *, const Eigen::Vector3d &)> &fn) const {
   for (size_t v = 0; v < verts_.size(); ++v) {
     const auto &vi = verts_[v];
-    if (vi.ownedFree()) fn(static_cast<PetscInt>(v), mesh_->naturalVertex[v], vi.global, vi.rest);
+    if (!vi.ownedFree()) continue;
+    const PetscInt rows[3] = {vi.row(0), vi.row(1), R == 3 ? vi.row(2) : -1};
+    fn(static_cast<PetscInt>(v), mesh_->naturalVertex[v], rows, vi.rest);
   }
 }
 
@@ -217,8 +218,9 @@ PetscErrorCode DiscretizationT<R, C>::lumpedMass(Vec massGlobal) const {
   PetscCall(VecGetArray(massGlobal, &m));
   for (size_t v = 0; v < verts_.size(); ++v) {
     const auto &vi = verts_[v];
-    if (vi.ownedFree())
-      for (int i = 0; i < R; ++i) m[vi.global - lo + i] = mass_[v];
+    if (vi.owned)
+      for (int i = 0; i < R; ++i)
+        if (!vi.fixed(i)) m[vi.row(i) - lo] = mass_[v];
   }
   PetscCall(VecRestoreArray(massGlobal, &m));
   PetscFunctionReturn(0);
@@ -240,7 +242,7 @@ template <int R, int C>
 void DiscretizationT<R, C>::ownedSupportedVertices(std::vector<PetscInt> *local) const {
   local->clear();
   for (size_t v = 0; v < verts_.size(); ++v)
-    if (verts_[v].owned && verts_[v].bcSet >= 0) local->push_back(static_cast<PetscInt>(v));
+    if (verts_[v].owned && verts_[v].bcSet >= 0 && verts_[v].numFree == 0) local->push_back(static_cast<PetscInt>(v));
 }
 
 template class DiscretizationT<3, 3>;

@@ -72,14 +72,14 @@ class DiagnosticsView {
 class Kinematics {
  public:
   virtual ~Kinematics() = default;
-  // Free (non-Dirichlet) owned vertices: (local vertex index v - vStart, natural id, global offset of its first
-  // dof, rest position).
-  virtual void forEachOwnedFreeVertex(const std::function<void(PetscInt local, PetscInt natural, PetscInt globalOffset,
+  // Owned vertices with a free component: (local vertex index v - vStart, natural id, the global row of each
+  // component (R of them, -1 where prescribed: -bc_clamp_<id>_components), rest position).
+  virtual void forEachOwnedFreeVertex(const std::function<void(PetscInt local, PetscInt natural, const PetscInt *rows,
                                                                const Eigen::Vector3d &rest)> &fn) const = 0;
   // Positions of every local vertex at a local state (boundary filled), 3 per vertex in local vertex order (v - vStart;
   // z = 0 for planar unknowns).
   virtual PetscErrorCode vertexPositions(Vec xLocal, std::vector<double> *xyz) const = 0;
-  // Local indices (v - vStart) of the owned Dirichlet vertices.
+  // Local indices (v - vStart) of the owned vertices prescribed in every component.
   virtual void ownedSupportedVertices(std::vector<PetscInt> *local) const = 0;
   // The rotational form of a displacement field d at a state x (local vectors, zeros at Dirichlet dofs), in two
   // parts so that several multiples of d share one spin: vertexSpin gives each local vertex's spin w of d (the skew

@@ -60,7 +60,7 @@ class DiscretizationT final : public Discretization, public DiagnosticsView, pub
   const DiagnosticsView &diagnostics() const override { return *this; }
   const Kinematics &kinematics() const override { return *this; }
   void forEachOwnedFreeVertex(
-      const std::function<void(PetscInt, PetscInt, PetscInt, const Eigen::Vector3d &)> &fn) const override;
+      const std::function<void(PetscInt, PetscInt, const PetscInt *, const Eigen::Vector3d &)> &fn) const override;
   PetscErrorCode maxDisplacement(Vec xLocal, PetscReal *value) const override;
   PetscErrorCode stretchTermsFixShape(bool *fixes) const override;
   PetscErrorCode vertexSpin(Vec xLocal, Vec dLocal, std::vector<double> *spin) const override;

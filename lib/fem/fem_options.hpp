@@ -146,10 +146,16 @@ inline constexpr OptionDecl clampAffine =
         .inFamily("-bc_clamp_<id>_")
         .otherwise("identity")
         .entries(9, 4);
+inline constexpr OptionDecl clampComponents =
+    wordsOption("-components", "x,y,z",
+                "the components the set prescribes (symmetry planes, rollers: e.g. z, or x,y); the others stay free. "
+                "A vertex in several sets is held in the union of their components, each by the first set listing it")
+        .inFamily("-bc_clamp_<id>_")
+        .byDefault("x,y,z");
 inline constexpr OptionDecl boxes =
     realsOption("-bc_box", "xmin,xmax,ymin,ymax,zmin,zmax[,...]",
                 "vertices inside box k (1-based, in the order given) are pinned at rest, or move by "
-                "-bc_box_<k>_translate, _rotate, _axis, _center like a clamp set")
+                "-bc_box_<k>_translate, _rotate, _axis, _center, _components like a clamp set")
         .otherwise("none");
 inline constexpr OptionDecl rampSteps =
     intOption("-bc_ramp_steps", "K", "load parameter s = min(1, step / K): the motion reaches its total after K steps")
@@ -157,7 +163,8 @@ inline constexpr OptionDecl rampSteps =
         .atLeast(1);
 
 inline constexpr const OptionDecl *kBoundaryOptions[] = {&clamp,       &clampTranslate, &clampRotate, &clampAxis,
-                                                         &clampCenter, &clampAffine,    &boxes,      &rampSteps};
+                                                         &clampCenter, &clampAffine,    &clampComponents, &boxes,
+                                                         &rampSteps};
 
 // ---- body forces ----
 inline constexpr OptionDecl density =

@@ -68,8 +68,9 @@ PetscErrorCode setFreePositions(const fem::Kinematics &kin, const std::vector<do
   PetscFunctionBeginUser;
   PetscCall(VecGetOwnershipRange(xGlobal, &lo, nullptr));
   PetscCall(VecGetArray(xGlobal, &x));
-  kin.forEachOwnedFreeVertex([&](PetscInt local, PetscInt, PetscInt off, const Eigen::Vector3d &) {
-    for (int i = 0; i < 3; ++i) x[off - lo + i] = xyz[3 * local + i];
+  kin.forEachOwnedFreeVertex([&](PetscInt local, PetscInt, const PetscInt *rows, const Eigen::Vector3d &) {
+    for (int i = 0; i < 3; ++i)
+      if (rows[i] >= 0) x[rows[i] - lo] = xyz[3 * local + i];
   });
   PetscCall(VecRestoreArray(xGlobal, &x));
   PetscFunctionReturn(0);
@@ -82,6 +83,11 @@ PetscErrorCode Simulation::detachedStart(NewtonResult *acc) {
   PetscFunctionBeginUser;
   if (disc_->dofsPerVertex() != 3 || disc_->numBoundaryVerticesGlobal() == 0) PetscFunctionReturn(0);
   PetscCall(PetscObjectGetComm((PetscObject)x_, &comm));
+  std::vector<PetscInt> supported;  // the relaxed body is placed on the vertices prescribed in every component
+  disc_->kinematics().ownedSupportedVertices(&supported);
+  PetscInt numSupported = static_cast<PetscInt>(supported.size());
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &numSupported, 1, MPIU_INT, MPI_SUM, comm));
+  if (numSupported == 0) PetscFunctionReturn(0);  // symmetry planes or rollers only: nothing to place it on
   // The detached body: the same mesh on a DM clone (its own DOF layout), no supports, elastic terms only.
   fem::Mesh mesh = disc_->mesh();  // (copies the metadata; the DM is replaced before anything can destroy it)
   mesh.dm = nullptr;
@@ -125,8 +131,6 @@ PetscErrorCode Simulation::detachedStart(NewtonResult *acc) {
     PetscCall(DMGlobalToLocal(detached->dm(), y, INSERT_VALUES, local));
     PetscCall(detached->kinematics().vertexPositions(local, &relaxed));
     PetscCall(DMRestoreLocalVector(detached->dm(), &local));
-    std::vector<PetscInt> supported;
-    disc_->kinematics().ownedSupportedVertices(&supported);
     Eigen::Matrix3d R;
     Eigen::Vector3d t;
     PetscCall(fitRigidMotion(comm, supported, relaxed, start, &R, &t));

@@ -65,11 +65,17 @@ NewtonSolver::~NewtonSolver() {
 // Rigid-body modes of the rest configuration as the Jacobian's near-nullspace (-near_nullspace rigid, the default):
 // algebraic multigrid (-pc_type gamg) builds its coarse spaces from them; other preconditioners ignore them.
 PetscErrorCode NewtonSolver::attachNearNullSpace() {
+  PetscInt bs;
   PetscFunctionBeginUser;
   if (!opts_.rigidNearNullspace) PetscFunctionReturn(0);
   MatNullSpace nsp;
-  PetscCall(ctx_.disc->restPositions(ctx_.work));
-  PetscCall(rigidBodyModes(ctx_.work, ctx_.disc->dofsPerVertex(), &nsp));
+  PetscCall(MatGetBlockSize(ctx_.J, &bs));
+  if (bs == ctx_.disc->dofsPerVertex()) {
+    PetscCall(ctx_.disc->restPositions(ctx_.work));
+    PetscCall(rigidBodyModes(ctx_.work, ctx_.disc->dofsPerVertex(), &nsp));
+  } else {  // vertices held in some components only (-bc_clamp_<id>_components): the modes dof by dof
+    PetscCall(rigidBodyModesOfFreeDofs(ctx_.disc->kinematics(), ctx_.disc->dofsPerVertex(), ctx_.work, &nsp));
+  }
   PetscCall(MatSetNearNullSpace(ctx_.J, nsp));
   PetscCall(MatNullSpaceDestroy(&nsp));
   PetscFunctionReturn(0);
@@ -86,6 +92,41 @@ PetscErrorCode rigidBodyModes(Vec positions, PetscInt dofsPerVertex, MatNullSpac
   PetscCall(VecCopy(positions, coords));
   PetscCall(MatNullSpaceCreateRigidBody(coords, modes));
   PetscCall(VecDestroy(&coords));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode rigidBodyModesOfFreeDofs(const fem::Kinematics &kin, PetscInt dofsPerVertex, Vec like,
+                                        MatNullSpace *modes) {
+  const int R = static_cast<int>(dofsPerVertex), n = R == 3 ? 6 : 3;
+  Vec v[6];
+  PetscInt lo;
+  PetscFunctionBeginUser;
+  PetscCall(VecGetOwnershipRange(like, &lo, nullptr));
+  for (int k = 0; k < n; ++k) {
+    PetscScalar *a;
+    PetscCall(VecDuplicate(like, &v[k]));
+    PetscCall(VecSet(v[k], 0.0));
+    PetscCall(VecGetArray(v[k], &a));
+    kin.forEachOwnedFreeVertex([&](PetscInt, PetscInt, const PetscInt *rows, const Eigen::Vector3d &X) {
+      Eigen::Vector3d m = Eigen::Vector3d::Zero();  // translations e_k, then rotations e_a x X (2D: about z)
+      if (k < R) m[k] = 1.0;
+      else m = (R == 3 ? Eigen::Vector3d::Unit(k - 3) : Eigen::Vector3d::UnitZ()).cross(X);
+      for (int i = 0; i < R; ++i)
+        if (rows[i] >= 0) a[rows[i] - lo] = m[i];
+    });
+    PetscCall(VecRestoreArray(v[k], &a));
+  }
+  for (int k = 0; k < n; ++k) {  // Gram-Schmidt, twice: MatNullSpaceCreate wants an orthonormal set
+    for (int pass = 0; pass < 2; ++pass)
+      for (int j = 0; j < k; ++j) {
+        PetscScalar dot;
+        PetscCall(VecDot(v[k], v[j], &dot));
+        PetscCall(VecAXPY(v[k], -dot, v[j]));
+      }
+    PetscCall(VecNormalize(v[k], nullptr));
+  }
+  PetscCall(MatNullSpaceCreate(PetscObjectComm((PetscObject)like), PETSC_FALSE, n, v, modes));
+  for (int k = 0; k < n; ++k) PetscCall(VecDestroy(&v[k]));
   PetscFunctionReturn(0);
 }
 

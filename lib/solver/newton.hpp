@@ -38,6 +38,10 @@ namespace aries::solver {
 PetscErrorCode rigidBodyModes(Vec positions, PetscInt dofsPerVertex, MatNullSpace *modes);
 
 class NewtonSolver {
+// The same modes restricted to the free dofs of a layout in which some vertices are held in some components only (no
+// block structure), orthonormalized; `like` gives the global vector layout.
+PetscErrorCode rigidBodyModesOfFreeDofs(const fem::Kinematics &kin, PetscInt dofsPerVertex, Vec like,
+                                        MatNullSpace *modes);
  public:
   ~NewtonSolver();
   // `options` from readNewtonOptions; `dynamic` selects backward Euler (dt-scaled tolerance, step bound, inertia

@@ -95,9 +95,9 @@ PetscErrorCode Simulation::applyInitialState() {
     PetscScalar *xa;
     PetscCall(VecGetOwnershipRange(x_, &lo, nullptr));
     PetscCall(VecGetArray(x_, &xa));
-    disc_->kinematics().forEachOwnedFreeVertex([&](PetscInt local, PetscInt, PetscInt off, const Eigen::Vector3d &) {
-      xa[off - lo] = uv[local][0];
-      xa[off - lo + 1] = uv[local][1];
+    disc_->kinematics().forEachOwnedFreeVertex([&](PetscInt local, PetscInt, const PetscInt *rows, const Eigen::Vector3d &) {
+      for (int i = 0; i < 2; ++i)
+        if (rows[i] >= 0) xa[rows[i] - lo] = uv[local][i];
     });
     PetscCall(VecRestoreArray(x_, &xa));
     PetscFunctionReturn(0);
@@ -105,7 +105,7 @@ PetscErrorCode Simulation::applyInitialState() {
   const int R = static_cast<int>(disc_->dofsPerVertex());
   // Rest centroid and measure of the body (vertices are the free ones; the centroid uses all cells).
   core::CentroidAccumulator acc;
-  disc_->kinematics().forEachOwnedFreeVertex([&](PetscInt, PetscInt, PetscInt, const Eigen::Vector3d &X) { acc.add(X); });
+  disc_->kinematics().forEachOwnedFreeVertex([&](PetscInt, PetscInt, const PetscInt *, const Eigen::Vector3d &X) { acc.add(X); });
   Eigen::Vector3d centroid;
   PetscCall(acc.reduce(comm, &centroid));
   PetscInt lo;
@@ -113,8 +113,9 @@ PetscErrorCode Simulation::applyInitialState() {
   PetscCall(VecGetOwnershipRange(x_, &lo, nullptr));
   PetscCall(VecGetArray(x_, &x));
   if (opts_.initial == InitialState::Invert) {
-    disc_->kinematics().forEachOwnedFreeVertex([&](PetscInt, PetscInt, PetscInt off, const Eigen::Vector3d &X) {
-      for (int i = 0; i < R; ++i) x[off - lo + i] = 2.0 * centroid[i] - X[i];
+    disc_->kinematics().forEachOwnedFreeVertex([&](PetscInt, PetscInt, const PetscInt *rows, const Eigen::Vector3d &X) {
+      for (int i = 0; i < R; ++i)
+        if (rows[i] >= 0) x[rows[i] - lo] = 2.0 * centroid[i] - X[i];
     });
   } else if (opts_.initial == InitialState::CollapsePlane || opts_.initial == InitialState::CollapseLine ||
              opts_.initial == InitialState::CollapsePoint) {
@@ -122,17 +123,18 @@ PetscErrorCode Simulation::applyInitialState() {
     // free vertex lies in the plane through the centroid normal to z (y in 2D); line: all but x; point: all).
     const int keep = opts_.initial == InitialState::CollapsePlane ? R - 1
                      : opts_.initial == InitialState::CollapseLine ? 1 : 0;
-    disc_->kinematics().forEachOwnedFreeVertex([&](PetscInt, PetscInt, PetscInt off, const Eigen::Vector3d &X) {
-      for (int i = 0; i < R; ++i) x[off - lo + i] = i < keep ? X[i] : centroid[i];
+    disc_->kinematics().forEachOwnedFreeVertex([&](PetscInt, PetscInt, const PetscInt *rows, const Eigen::Vector3d &X) {
+      for (int i = 0; i < R; ++i)
+        if (rows[i] >= 0) x[rows[i] - lo] = i < keep ? X[i] : centroid[i];
     });
   } else {
     const int dim = disc_->shapeCols() == 3 ? 3 : 2;
     const double side = std::pow(opts_.scrambleVolumeRatio * disc_->restMeasureGlobal(), 1.0 / dim);
     const uint64_t seed = static_cast<uint64_t>(opts_.scrambleSeed);
-    disc_->kinematics().forEachOwnedFreeVertex([&](PetscInt, PetscInt natural, PetscInt off, const Eigen::Vector3d &) {
+    disc_->kinematics().forEachOwnedFreeVertex([&](PetscInt, PetscInt natural, const PetscInt *rows, const Eigen::Vector3d &) {
       for (int i = 0; i < R; ++i) {
         const bool inPlane = i < dim;
-        x[off - lo + i] = centroid[i] + (inPlane ? side * (uniform01(seed, natural, i) - 0.5) : 0.0);
+        if (rows[i] >= 0) x[rows[i] - lo] = centroid[i] + (inPlane ? side * (uniform01(seed, natural, i) - 0.5) : 0.0);
       }
     });
   }
@@ -149,11 +151,12 @@ PetscErrorCode Simulation::resume(const std::vector<double> &positions, const st
   PetscCall(VecGetOwnershipRange(x_, &lo, nullptr));
   PetscCall(VecGetArray(x_, &x));
   PetscCall(VecGetArray(v_, &v));
-  disc_->kinematics().forEachOwnedFreeVertex([&](PetscInt, PetscInt natural, PetscInt off, const Eigen::Vector3d &) {
-    for (int i = 0; i < R; ++i) {
-      x[off - lo + i] = positions[3 * static_cast<size_t>(natural) + i];
-      v[off - lo + i] = velocities[3 * static_cast<size_t>(natural) + i];
-    }
+  disc_->kinematics().forEachOwnedFreeVertex([&](PetscInt, PetscInt natural, const PetscInt *rows, const Eigen::Vector3d &) {
+    for (int i = 0; i < R; ++i)
+      if (rows[i] >= 0) {
+        x[rows[i] - lo] = positions[3 * static_cast<size_t>(natural) + i];
+        v[rows[i] - lo] = velocities[3 * static_cast<size_t>(natural) + i];
+      }
   });
   PetscCall(VecRestoreArray(x_, &x));
   PetscCall(VecRestoreArray(v_, &v));

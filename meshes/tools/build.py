@@ -50,6 +50,14 @@ CGAL_DATA = [
 # produces with Debian 12's gmsh 4.8.4 (it is deterministic); a different count only warns (another
 # gmsh version meshes differently). 'alias' maps a size name to another entry of the same mesh.
 
+def cook_sizes(cells, per_square):
+    """The Cook panel's sizes: n x n grid squares (test 8, s16, default 32, s64, s128), `per_square` cells each."""
+    sizes = {}
+    for name, n in (("test", 8), ("s16", 16), ("default", 32), ("paper", None), ("s64", 64), ("s128", 128)):
+        sizes[name] = {"alias": "default"} if n is None else {"n": n, cells: per_square * n * n}
+    return sizes
+
+
 CATALOG = {
     "cylinder": {
         "test": {"h": 0.17, "tets": 1770},
@@ -103,6 +111,7 @@ CATALOG = {
         "paper": {"alias": "default"},
         "fine3": {"h": 0.07, "tets": 50330},
         "fine4": {"h": 0.05, "tets": 138260},
+        "fine5": {"h": 0.035, "tets": 393067},
     },
     # triangle surface meshes
     "cloth": {
@@ -119,14 +128,9 @@ CATALOG = {
         "s320": {"nx": 320, "triangles": 2 * 320 * 32},
     },
     # verification: Cook's membrane (a tapered panel, 48 wide, left edge 44 high, right edge 16 high), n x n panels
-    "cook": {
-        "test": {"n": 8, "triangles": 2 * 8 ** 2},
-        "s16": {"n": 16, "triangles": 2 * 16 ** 2},
-        "default": {"n": 32, "triangles": 2 * 32 ** 2},
-        "paper": {"alias": "default"},
-        "s64": {"n": 64, "triangles": 2 * 64 ** 2},
-        "s128": {"n": 128, "triangles": 2 * 128 ** 2},
-    },
+    "cook": cook_sizes("triangles", 2),
+    # verification: Cook's membrane as a thin 3D slab, its half z in [0, 1/2] (n x n x 1 cells, 6 tets each)
+    "cook_slab": cook_sizes("tets", 6),
     "disk": {
         "test": {"rings": 10, "triangles": 6 * 10 ** 2},
         "default": {"rings": 15, "triangles": 6 * 15 ** 2},
@@ -157,6 +161,7 @@ PAPER = {  # the paper's meshes (Table 1: tets, Table 2: cloth triangles), for t
     "disk": "(not in the paper)",
     "shell": "(verification: Lame's sphere)",
     "cook": "(verification: Cook's membrane)",
+    "cook_slab": "(verification: Cook's membrane, 3D slab)",
     "beam": "(verification: cantilever)",
     "lionhead": "Fig. 14 (count not given)",
     "nefertiti": "Fig. 14 (count not given)",
@@ -331,20 +336,7 @@ def build_cube(p):
     g = np.linspace(0.0, 1.0, n + 1)
     zz, yy, xx = np.meshgrid(g, g, g, indexing="ij")  # node id = i + (n+1) (j + (n+1) k)
     X = np.c_[xx.ravel(), yy.ravel(), zz.ravel()]
-    N = n + 1
-    k, j, i = np.meshgrid(np.arange(n), np.arange(n), np.arange(n), indexing="ij")
-    base = (i + N * (j + N * k)).ravel()
-    step = {0: 1, 1: N, 2: N * N}
-    tets = []
-    for perm, even in (([0, 1, 2], True), ([0, 2, 1], False), ([1, 0, 2], False),
-                       ([1, 2, 0], True), ([2, 0, 1], True), ([2, 1, 0], False)):
-        a = base
-        b = a + step[perm[0]]
-        c = b + step[perm[1]]
-        d = c + step[perm[2]]
-        # the path a-b-c-d along edges e_p0, e_p1, e_p2 has orientation sign(perm)
-        tets.append(np.stack([a, b, c, d] if even else [a, b, d, c], 1))
-    T = np.stack(tets, 1).reshape(-1, 4)  # cell-major: the 6 tets of grid cell 0, then cell 1, ...
+    T = freudenthal_tets(n, n, n)  # cell-major: the 6 tets of grid cell 0, then cell 1, ...
     m = mk.TetMesh(X, T)
     m.orient()
     F, _ = m.boundary_faces()
@@ -564,6 +556,44 @@ def build_beam(p):
     return m, {}, {"source": "structured grid (meshes/tools/build.py)", "nx": nx}
 
 
+def freudenthal_tets(nx, ny, nz):
+    """The tets of an nx x ny x nz grid of nodes i + (nx+1) (j + (ny+1) k): each cell split into the 6 Freudenthal
+    (Kuhn) tets around its main diagonal (conforming across cells), cell-major."""
+    Nx, Ny = nx + 1, ny + 1
+    k, j, i = np.meshgrid(np.arange(nz), np.arange(ny), np.arange(nx), indexing="ij")
+    base = (i + Nx * (j + Ny * k)).ravel()
+    step = {0: 1, 1: Nx, 2: Nx * Ny}
+    tets = []
+    for perm, even in (([0, 1, 2], True), ([0, 2, 1], False), ([1, 0, 2], False),
+                       ([1, 2, 0], True), ([2, 0, 1], True), ([2, 1, 0], False)):
+        b = base + step[perm[0]]
+        c = b + step[perm[1]]
+        d = c + step[perm[2]]
+        tets.append(np.stack([base, b, c, d] if even else [base, b, d, c], 1))
+    return np.stack(tets, 1).reshape(-1, 4)
+
+
+def build_cook_slab(p):
+    """Cook's membrane as a 3D slab: the panel of build_cook (n x n cells of the bilinear map) extruded over
+    z in [0, 1/2], the upper half of a slab 1 thick (one cell layer, 6 Freudenthal tets per cell: 6 n^2 tets). Face
+    groups: left (x = 0, clamped in x, y), right (x = 48, the shear load), mid (z = 0, the symmetry plane: held in z)
+    and top (z = 1/2, free)."""
+    n = p["n"]
+    g = np.linspace(0.0, 1.0, n + 1)
+    zeta, eta, xi = np.meshgrid(np.array([0.0, 1.0]), g, g, indexing="ij")
+    xi, eta, zeta = xi.ravel(), eta.ravel(), zeta.ravel()
+    corners = np.array([[0.0, 0.0], [48.0, 44.0], [48.0, 60.0], [0.0, 44.0]])
+    P = (np.outer((1 - xi) * (1 - eta), corners[0]) + np.outer(xi * (1 - eta), corners[1])
+         + np.outer(xi * eta, corners[2]) + np.outer((1 - xi) * eta, corners[3]))
+    m = mk.TetMesh(np.c_[P, 0.5 * zeta], freudenthal_tets(n, n, 1))
+    m.orient()
+    F, _ = m.boundary_faces()
+    Q = m.X[F]
+    for tag, name, axis, value in ((1, "left", 0, 0.0), (2, "right", 0, 48.0), (3, "mid", 2, 0.0), (4, "top", 2, 0.5)):
+        m.add_face_set(tag, name, F[(np.abs(Q[:, :, axis] - value) < 1e-9).all(1)])
+    return m, {}, {"source": "structured bilinear map, extruded (meshes/tools/build.py)", "n": n}
+
+
 def build_cook(p):
     """Cook's membrane (Cook 1974; the plane-stress benchmark of e.g. Simo & Rifai 1990): the quadrilateral panel with
     corners (0,0), (48,44), (48,60), (0,44) in the plane z = 0, an n x n grid of the bilinear map of the unit square,
@@ -696,6 +726,7 @@ def build_nefertiti(p):
 BUILDERS = {"cylinder": build_cylinder, "cube": build_cube, "armadillo": build_armadillo,
             "bunny": build_bunny, "octopus": build_octopus, "triceratops": build_triceratops,
             "hand": build_hand, "camel": build_camel, "cloth": build_cloth, "cook": build_cook, "beam": build_beam,
+            "cook_slab": build_cook_slab,
             "disk": build_disk,
             "lionhead": build_lionhead, "nefertiti": build_nefertiti, "shell": build_shell}
 

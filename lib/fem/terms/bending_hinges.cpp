@@ -116,7 +116,7 @@ PetscErrorCode BendingHinges::addHessian(const PetscScalar *x, const HessianAsse
       PetscInt blockRows[4];
       for (int i = 0; i < 4; ++i) {
         const auto &vi = verts_[h.vertex[i]];
-        blockRows[i] = vi.bcSet >= 0 ? -1 : vi.global / 3;
+        blockRows[i] = vi.numFree == 0 ? -1 : vi.global / 3;
       }
       PetscCall(MatSetValuesBlocked(J, 4, blockRows, 4, blockRows, K.data(), ADD_VALUES));
       continue;
@@ -124,7 +124,7 @@ PetscErrorCode BendingHinges::addHessian(const PetscScalar *x, const HessianAsse
     PetscInt rows[12];
     for (int i = 0; i < 4; ++i) {
       const auto &vi = verts_[h.vertex[i]];
-      for (int k = 0; k < 3; ++k) rows[3 * i + k] = vi.bcSet >= 0 ? -1 : vi.global + k;
+      for (int k = 0; k < 3; ++k) rows[3 * i + k] = vi.row(k);
     }
     PetscCall(MatSetValues(J, 12, rows, 12, rows, K.data(), ADD_VALUES));
   }

@@ -63,14 +63,14 @@ PetscErrorCode ElasticCells<R, C>::addHessian(const PetscScalar *x, const Hessia
       PetscInt rows[NV];
       for (int v = 0; v < NV; ++v) {
         const auto &vi = verts_[cell.vertex[v]];
-        rows[v] = vi.bcSet >= 0 ? -1 : vi.global / R;
+        rows[v] = vi.numFree == 0 ? -1 : vi.global / R;
       }
       PetscCall(MatSetValuesBlocked(J, NV, rows, NV, rows, K.data(), ADD_VALUES));
     } else {
       PetscInt rows[NDOF];
       for (int v = 0; v < NV; ++v) {
         const auto &vi = verts_[cell.vertex[v]];
-        for (int i = 0; i < R; ++i) rows[v * R + i] = vi.bcSet >= 0 ? -1 : vi.global + i;
+        for (int i = 0; i < R; ++i) rows[v * R + i] = vi.row(i);
       }
       PetscCall(MatSetValues(J, NDOF, rows, NDOF, rows, K.data(), ADD_VALUES));
     }

@@ -127,8 +127,8 @@ void FollowerPressure::addGradient(const PetscScalar *x, PetscScalar *g) const {
                                            center_[t.set], kernels::Order::Gradient);
     for (int i = 0; i < 3; ++i) {
       const auto &vi = verts_[t.vertex[i]];
-      if (vi.bcSet >= 0) continue;
-      for (int k = 0; k < 3; ++k) g[vi.loc + k] += s_ * pressure_[t.set] * d.grad[3 * i + k];
+      for (int k = 0; k < 3; ++k)
+        if (!vi.fixed(k)) g[vi.loc + k] += s_ * pressure_[t.set] * d.grad[3 * i + k];
     }
   }
 }
@@ -144,7 +144,7 @@ PetscErrorCode FollowerPressure::addHessian(const PetscScalar *x, const HessianA
       PetscInt blockRows[3];
       for (int i = 0; i < 3; ++i) {
         const auto &vi = verts_[t.vertex[i]];
-        blockRows[i] = vi.bcSet >= 0 ? -1 : vi.global / 3;
+        blockRows[i] = vi.numFree == 0 ? -1 : vi.global / 3;
       }
       PetscCall(MatSetValuesBlocked(J, 3, blockRows, 3, blockRows, K.data(), ADD_VALUES));
       continue;
@@ -152,7 +152,7 @@ PetscErrorCode FollowerPressure::addHessian(const PetscScalar *x, const HessianA
     PetscInt rows[9];
     for (int i = 0; i < 3; ++i) {
       const auto &vi = verts_[t.vertex[i]];
-      for (int k = 0; k < 3; ++k) rows[3 * i + k] = vi.bcSet >= 0 ? -1 : vi.global + k;
+      for (int k = 0; k < 3; ++k) rows[3 * i + k] = vi.row(k);
     }
     PetscCall(MatSetValues(J, 9, rows, 9, rows, K.data(), ADD_VALUES));
   }

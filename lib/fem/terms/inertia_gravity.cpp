@@ -13,6 +13,7 @@ void InertiaGravity<R>::addEnergy(const PetscScalar *x, double *energy, double *
       const auto &vi = verts_[v];
       if (!vi.ownedFree()) continue;
       for (int i = 0; i < R; ++i) {
+        if (vi.fixed(i)) continue;
         const double xi = x[vi.loc + i];
         if (inertia) {
           const double d = xi - xTilde_[vi.loc + i];
@@ -39,6 +40,7 @@ void InertiaGravity<R>::addGradient(const PetscScalar *x, PetscScalar *g) const 
     const auto &vi = verts_[v];
     if (!vi.ownedFree()) continue;
     for (int i = 0; i < R; ++i) {
+      if (vi.fixed(i)) continue;
       if (inertia) g[vi.loc + i] += mass_[v] * (x[vi.loc + i] - xTilde_[vi.loc + i]) / (dt_ * dt_);
       if (grav) g[vi.loc + i] -= mass_[v] * gravity_[i];
     }
@@ -53,7 +55,8 @@ PetscErrorCode InertiaGravity<R>::addHessian(const PetscScalar *, const HessianA
     const auto &vi = verts_[v];
     if (!vi.ownedFree()) continue;
     for (int i = 0; i < R; ++i) {
-      const PetscInt row = vi.global + i;
+      const PetscInt row = vi.row(i);
+      if (row < 0) continue;
       const PetscScalar m = mass_[v] / (dt_ * dt_);
       PetscCall(MatSetValues(J, 1, &row, 1, &row, &m, ADD_VALUES));
     }
@@ -69,8 +72,9 @@ void InertiaGravity<R>::addCurvature(const PetscScalar *, const PetscScalar *con
     if (!vi.ownedFree()) continue;
     const double m = mass_[v] / (dt_ * dt_);
     for (int i = 0; i < R; ++i)
-      for (int k = 0; k < K; ++k)
-        for (int l = 0; l < K; ++l) (*q)(k, l) += m * d[k][vi.loc + i] * d[l][vi.loc + i];
+      if (!vi.fixed(i))
+        for (int k = 0; k < K; ++k)
+          for (int l = 0; l < K; ++l) (*q)(k, l) += m * d[k][vi.loc + i] * d[l][vi.loc + i];
   }
 }
 

@@ -105,7 +105,7 @@ PetscErrorCode ObstacleContact::addHessian(const PetscScalar *x, const HessianAs
     Eigen::Matrix<double, 3, 3, Eigen::RowMajor> H = Eigen::Matrix3d::Zero();
     for (const auto &o : obstacles_) H += at(xv, o, kernels::Order::Hessian).hess;
     if (H.isZero(0.0)) continue;
-    const PetscInt rows[3] = {vi.global, vi.global + 1, vi.global + 2};
+    const PetscInt rows[3] = {vi.row(0), vi.row(1), vi.row(2)};
     PetscCall(MatSetValues(J, 3, rows, 3, rows, H.data(), ADD_VALUES));
   }
   PetscFunctionReturn(0);

@@ -54,8 +54,8 @@ void SurfaceLoads<R>::addEnergy(const PetscScalar *x, double *energy, double *ma
   double e = 0.0, mag = 0.0;
   for (size_t v = 0; v < verts_.size(); ++v) {
     const auto &vi = verts_[v];
-    if (vi.bcSet >= 0) continue;
     for (int i = 0; i < R; ++i) {
+      if (vi.fixed(i)) continue;
       const double ei = s_ * force_[3 * v + i] * (x[vi.loc + i] - vi.rest[i]);
       e -= ei;
       mag += std::abs(ei);
@@ -69,8 +69,8 @@ template <int R>
 void SurfaceLoads<R>::addGradient(const PetscScalar *, PetscScalar *g) const {
   for (size_t v = 0; v < verts_.size(); ++v) {
     const auto &vi = verts_[v];
-    if (vi.bcSet >= 0) continue;
-    for (int i = 0; i < R; ++i) g[vi.loc + i] -= s_ * force_[3 * v + i];
+    for (int i = 0; i < R; ++i)
+      if (!vi.fixed(i)) g[vi.loc + i] -= s_ * force_[3 * v + i];
   }
 }
 
