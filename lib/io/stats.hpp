@@ -3,8 +3,8 @@
 //   step,time,newton_its,ksp_its,wall_s,energy,min_alpha,max_disp,reason,linear_solves,ksp_at_limit,residual,
 //   barrier_cells,barrier_fallback
 // newton_its counts updates of the state by a line search, linear_solves the Newton systems solved (including the
-// converging one, whose small step is applied as a final correction without counting as an update; an
-// energy_roundoff direction is not applied), ksp_at_limit those stopped by -ksp_max_it, residual |gradient|_2 over the free dofs at the end,
+// converging one, whose small step is applied as a final correction without counting as an update, where it does not
+// raise |g|), ksp_at_limit those stopped by -ksp_max_it, residual |gradient|_2 over the free dofs at the end,
 // barrier_cells the cells whose aberration barrier is active at the start of the step (0 < alpha < eps),
 // barrier_fallback the cells evaluated with the mollifier during the step because their alpha was ~0 then (Sec. 7.1).
 #pragma once

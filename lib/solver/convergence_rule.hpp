@@ -13,7 +13,8 @@ enum class Convergence {
   Initial,         // the first Newton step was already below the tolerance (applied as a final correction)
   NewtonStep,      // the Newton step after >= 1 update is below the tolerance (applied as a final correction)
   StepBound,       // backward Euler: the residual bounds the Newton step below the tolerance (no linear solve)
-  EnergyRoundoff,  // the predicted decrease is below the energy's round-off and the step is short (not applied)
+  EnergyRoundoff,  // the predicted decrease is below the energy's round-off and the step is short (applied as a
+                   // final correction where it does not raise |g|)
   Petsc,           // one of PETSc's tests the user enabled (-snes_atol, -snes_rtol, -snes_stol)
 };
 

@@ -39,7 +39,7 @@ PetscErrorCode ConvergenceCheck::setup(NewtonContext &ctx) {
 // the Newton step (CG iterates grow in norm from a zero start), so a small loose step certifies only with a bound on
 // its error (backward Euler: the step bound of the linear residual) or after a solve at the base tolerance.
 PetscErrorCode ConvergenceCheck::shapeDirection(NewtonContext &ctx, Direction &d, Vec X, Vec Y, Vec F,
-                                                PetscBool *changed) {
+                                                PetscBool *) {
   KSP ksp;
   KSPConvergedReason linearReason;
   PetscReal stepInf, energy, magnitude, rtol;
@@ -62,6 +62,7 @@ PetscErrorCode ConvergenceCheck::shapeDirection(NewtonContext &ctx, Direction &d
   m.stepTol = ctx.stepTol;
   m.slope = slope;
   m.roundoff = kRoundoffSafety * kernels::kEps * magnitude;
+  d.roundoff = m.roundoff;
   Convergence how = classifyDirection(m);
   PetscCall(KSPGetTolerances(ksp, &rtol, nullptr, nullptr, nullptr));
   const bool loose = rtol > baseRtol_ || forcingStopped_;
@@ -102,14 +103,11 @@ PetscErrorCode ConvergenceCheck::shapeDirection(NewtonContext &ctx, Direction &d
   }
   if (how == Convergence::None) PetscFunctionReturn(0);
   ctx.declareConverged(how);
-  // A Newton step below the tolerance is applied as a final correction (an exact solve's step: taken in full, the
-  // safeguard still applies); a direction converged by round-off is not.
+  // The converged direction is applied as a final correction (an exact solve's step, taken in full where it lowers
+  // the gradient's norm; the safeguard still shapes it): NewtonSolver::stepIfResidualDrops. Not through the energy
+  // line search: a step this short changes the energy by about its round-off, so the line search would accept or
+  // reject it by chance (and differently on different rank counts).
   d.finalCorrection = true;
-  if (how == Convergence::EnergyRoundoff) {
-    PetscCall(VecSet(Y, 0.0));
-    *changed = PETSC_TRUE;
-    d.discarded = true;
-  }
   PetscFunctionReturn(0);
 }
 

@@ -56,7 +56,7 @@ NewtonSolver::~NewtonSolver() {
   steps_.clear();  // before the SNES: the convergence check holds its KSP test's context
   if (ctx_.snes) SNESDestroy(&ctx_.snes);
   if (ctx_.J) MatDestroy(&ctx_.J);
-  for (Vec *v : {&ctx_.work, &ctx_.invMass})
+  for (Vec *v : {&ctx_.work, &ctx_.invMass, &ctx_.trialX, &ctx_.trialF})
     if (*v) VecDestroy(v);
 }
 
@@ -225,6 +225,8 @@ PetscErrorCode NewtonSolver::setup(fem::Discretization &disc, const NewtonOption
   if (symmetricStorage) PetscCall(MatSetOption(J, MAT_IGNORE_LOWER_TRIANGULAR, PETSC_TRUE));
   PetscCall(SNESSetJacobian(snes, J, J, nullptr, nullptr));
   PetscCall(DMCreateGlobalVector(dm, &ctx_.work));
+  PetscCall(VecDuplicate(ctx_.work, &ctx_.trialX));
+  PetscCall(VecDuplicate(ctx_.work, &ctx_.trialF));
   PetscCall(attachNearNullSpace());
   if (dynamic) {  // 1 / m per free dof (step bound, inertia guess) and the smallest mass
     PetscReal mmin;
@@ -252,6 +254,9 @@ PetscErrorCode NewtonSolver::setup(fem::Discretization &disc, const NewtonOption
   // stol = 0: a step shortened by the alpha safeguard must not read as convergence.
   PetscCall(SNESSetTolerances(snes, 0.0, 0.0, 0.0, 500, PETSC_DEFAULT));
   PetscCall(SNESSetMaxLinearSolveFailures(snes, PETSC_MAX_INT));  // an unconverged CG direction is still tried
+  // The line search "fails" after a residual step (it has nothing left to do); the convergence test ends the solve
+  // on a real failure (NewtonSolver::convergenceTest).
+  PetscCall(SNESSetMaxNonlinearStepFailures(snes, PETSC_MAX_INT));
   KSP ksp;
   PC pc;
   PetscCall(SNESGetKSP(snes, &ksp));

@@ -11,12 +11,14 @@
 //  * Convergence is decided on the Newton direction BEFORE any line search (paper Sec. 6): a step is converged when
 //    the inf-norm of the Newton step from a converged linear solve is at most -newton_tol * L (* dt for backward
 //    Euler), L the rest bounding-box diagonal. That small step is applied as a final correction (no line search, the
-//    safeguard still applies) and not counted as an update, so a state at rest converges with 0 updates (reason
+//    safeguard still applies; only where it does not raise |g|) and not counted as an update, so a state at rest
+//    converges with 0 updates (reason
 //    converged_initial). Backward Euler with a PSD-filtered Hessian has H >= M / dt^2, which bounds the Newton step
 //    by the residual alone: below the tolerance the step is certified without a linear solve (reason step_bound).
 //    A direction whose predicted energy decrease is below the energy's round-off and whose step is within
-//    kRoundoffStepFactor x the tolerance is converged too (energy_roundoff, at any iteration; not applied): no line
-//    search can measure progress there (convergence_rule.hpp). PETSc's relative residual test is off by default
+//    kRoundoffStepFactor x the tolerance is converged too (energy_roundoff, at any iteration; applied like the final
+//    correction): no line search can measure progress there (convergence_rule.hpp). A longer flat direction is an
+//    update taken in full where it lowers |g| (a residual step), not through the energy line search. PETSc's relative residual test is off by default
 //    (-snes_rtol 0): a residual small relative to a huge initial one (a scrambled start) is not equilibrium.
 //  * The rigid-body modes of the rest shape are the Jacobian's near-nullspace (-near_nullspace rigid|none), for GAMG.
 // Every default is a PETSc option and can be overridden (-snes_*, -ksp_*, -pc_*, -snes_linesearch_*).
@@ -36,12 +38,12 @@ namespace aries::solver {
 
 // The six rigid-body modes (orthonormalized) of the positions in a global vector with `dofsPerVertex` per vertex.
 PetscErrorCode rigidBodyModes(Vec positions, PetscInt dofsPerVertex, MatNullSpace *modes);
-
-class NewtonSolver {
 // The same modes restricted to the free dofs of a layout in which some vertices are held in some components only (no
 // block structure), orthonormalized; `like` gives the global vector layout.
 PetscErrorCode rigidBodyModesOfFreeDofs(const fem::Kinematics &kin, PetscInt dofsPerVertex, Vec like,
                                         MatNullSpace *modes);
+
+class NewtonSolver {
  public:
   ~NewtonSolver();
   // `options` from readNewtonOptions; `dynamic` selects backward Euler (dt-scaled tolerance, step bound, inertia
@@ -73,6 +75,7 @@ PetscErrorCode rigidBodyModesOfFreeDofs(const fem::Kinematics &kin, PetscInt dof
   static PetscErrorCode functionLocal(DM, Vec, Vec, void *);
   static PetscErrorCode jacobianLocal(DM, Vec, Mat, Mat, void *);
   static PetscErrorCode preCheck(SNESLineSearch, Vec, Vec, PetscBool *, void *);
+  PetscErrorCode stepIfResidualDrops(Vec X, Vec Y, Vec F, bool *applied);
   static PetscErrorCode postCheck(SNESLineSearch, Vec, Vec, Vec, PetscBool *, PetscBool *, void *);
   static PetscErrorCode convergenceTest(SNES, PetscInt, PetscReal, PetscReal, PetscReal, SNESConvergedReason *,
                                         void *);

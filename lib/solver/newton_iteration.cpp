@@ -10,6 +10,13 @@
 
 namespace aries::solver {
 
+namespace {
+// A direction whose predicted energy change g . p is at most this many times the energy's round-off is flat: the
+// round-off estimate (ConvergenceCheck: 1e3 eps x the sum of the terms' magnitudes) is conservative, and a line search
+// needs a decrease well above the actual noise to tell it from zero.
+constexpr double kFlatDirectionFactor = 1e3;
+}  // namespace
+
 // ---- the shared services -----------------------------------------------------------------------------------------
 
 PetscErrorCode NewtonContext::energyAt(Vec x, PetscReal *value, PetscReal *magnitude) {
@@ -128,9 +135,9 @@ PetscErrorCode NewtonSolver::alphaAcceptable(Vec xGlobal, const std::vector<doub
 // ---- the strategies around each line search -----------------------------------------------------------------------
 
 // Before every line search (of any type): the iteration's record, then the strategies in their order. A direction
-// the convergence check accepts is the final correction: SNES stops after this line search on the reason the check
-// set, without counting an iteration; the line search takes the step in full, so its length is what the safeguard
-// left of it (the history row's lambda).
+// the convergence check accepts is the final correction: applied here (stepIfResidualDrops), its length what the
+// safeguard left of it (the history row's lambda; 0 if not applied), then SNES stops after the (empty) line search on
+// the reason the check set, without counting an iteration.
 PetscErrorCode NewtonSolver::preCheck(SNESLineSearch, Vec X, Vec Y, PetscBool *changed, void *ctx) {
   auto *self = static_cast<NewtonSolver *>(ctx);
   NewtonContext &c = self->ctx_;
@@ -158,15 +165,51 @@ PetscErrorCode NewtonSolver::preCheck(SNESLineSearch, Vec X, Vec Y, PetscBool *c
 
   const PetscInt halvingsBefore = c.result.safeguardHalvings;
   for (auto &step : self->steps_) {
-    if (d.discarded) break;
     if (d.finalCorrection && !step->appliesToFinalCorrection()) continue;
     PetscCall(step->shapeDirection(c, d, X, Y, F, changed));
   }
   if (d.finalCorrection) {
     self->havePending_ = false;
-    if (!d.discarded) d.record.lambda = std::ldexp(1.0, -static_cast<int>(c.result.safeguardHalvings - halvingsBefore));
+    bool applied = false;
+    PetscCall(self->stepIfResidualDrops(X, Y, F, &applied));
+    d.record.lambda = applied ? std::ldexp(1.0, -static_cast<int>(c.result.safeguardHalvings - halvingsBefore)) : 0.0;
     c.result.history.push_back(d.record);
+    PetscCall(VecSet(Y, 0.0));  // the line search that follows has nothing left to do; SNES stops on the reason
+    *changed = PETSC_TRUE;
+    PetscFunctionReturn(0);
   }
+  // A direction along which the energy changes by less than its round-off (near the solution at a tight -newton_tol):
+  // the energy line search would accept or reject it by chance. It is judged by the gradient instead: taken in full
+  // where it lowers |g|, the line search then left nothing to do (the convergence test knows it was not a failure).
+  PetscScalar slope;
+  PetscCall(VecDot(F, Y, &slope));
+  if (std::abs(slope) <= kFlatDirectionFactor * d.roundoff) {
+    bool applied = false;
+    PetscCall(self->stepIfResidualDrops(X, Y, F, &applied));
+    if (applied) {
+      d.residualStep = true;
+      PetscCall(VecSet(Y, 0.0));
+      *changed = PETSC_TRUE;
+    }
+  }
+  PetscFunctionReturn(0);
+}
+
+// The direction Y (shaped by the safeguard) applied in full, X <- X - Y, where it does not raise the norm of the
+// gradient: near the solution an exact Newton step cuts it (quadratically) where the energy's change is round-off.
+// F follows X (the run's reported residual is the final state's).
+PetscErrorCode NewtonSolver::stepIfResidualDrops(Vec X, Vec Y, Vec F, bool *applied) {
+  PetscReal before, after;
+  PetscFunctionBeginUser;
+  *applied = false;
+  PetscCall(VecWAXPY(ctx_.trialX, -1.0, Y, X));
+  PetscCall(SNESComputeFunction(ctx_.snes, ctx_.trialX, ctx_.trialF));
+  PetscCall(VecNorm(F, NORM_2, &before));
+  PetscCall(VecNorm(ctx_.trialF, NORM_2, &after));
+  if (!(after <= before)) PetscFunctionReturn(0);  // NaN too
+  PetscCall(VecCopy(ctx_.trialX, X));
+  PetscCall(VecCopy(ctx_.trialF, F));
+  *applied = true;
   PetscFunctionReturn(0);
 }
 
@@ -192,6 +235,7 @@ PetscErrorCode NewtonSolver::finishUpdate(Vec xNew) {
   havePending_ = false;
   PetscCall(SNESGetLineSearch(ctx_.snes, &ls));
   PetscCall(SNESLineSearchGetLambda(ls, &lambda));
+  if (pending_.residualStep) lambda = 1.0;  // taken in full before the (then empty) line search
   lambda *= pending_.postScale;
   pending_.record.lambda = lambda;
   ctx_.result.history.push_back(pending_.record);
@@ -207,6 +251,18 @@ PetscErrorCode NewtonSolver::convergenceTest(SNES snes, PetscInt it, PetscReal x
   PetscFunctionBeginUser;
   PetscCall(SNESConvergedDefault(snes, it, xnorm, snorm, fnorm, reason, nullptr));
   if (*reason > 0) self->ctx_.result.convergence = Convergence::Petsc;
+  if (it > 0 && self->havePending_ && !self->pending_.residualStep) {
+    // SNES lets line searches fail (-snes_max_fail is raised for the residual steps, whose line search has nothing to
+    // do): a failure of a real one ends the solve as before, its record kept by solve() and no update counted.
+    SNESLineSearch ls;
+    SNESLineSearchReason lsReason;
+    PetscCall(SNESGetLineSearch(snes, &ls));
+    PetscCall(SNESLineSearchGetReason(ls, &lsReason));
+    if (lsReason != SNES_LINESEARCH_SUCCEEDED) {
+      *reason = SNES_DIVERGED_LINE_SEARCH;
+      PetscFunctionReturn(0);
+    }
+  }
   if (it > 0) {
     Vec x;
     self->ctx_.result.newtonIterations = it;

@@ -64,6 +64,8 @@ struct NewtonContext {
   SNES snes = nullptr;
   Mat J = nullptr;
   Vec work = nullptr;     // scratch, free for any step between calls
+  Vec trialX = nullptr;   // a trial point and its gradient (NewtonSolver::stepIfResidualDrops)
+  Vec trialF = nullptr;
   Vec invMass = nullptr;  // backward Euler: 1 / m per free dof
   double minMass = 0.0;
   bool dynamic = false;
@@ -91,8 +93,9 @@ struct Direction {
   bool haveCurvature = false;
   bool halved = false;         // the safeguard shortened it
   double postScale = 1.0;      // the share of the line search's length the safeguard kept
-  bool finalCorrection = false;  // converged: the small step is applied without a line search
-  bool discarded = false;        // converged by round-off: nothing applied, nothing more runs
+  bool finalCorrection = false;  // converged: the small step is applied without a line search if it lowers |g|
+  double roundoff = 0.0;         // the energy's round-off at X (ConvergenceCheck)
+  bool residualStep = false;     // flat (its energy change is round-off): taken because it lowers |g|, no line search
 };
 
 class NewtonStep {
