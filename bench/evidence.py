@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
-"""The evidence report: speed vs accuracy, the stability matrix, solvers, parallel/memory, kernels, Newton convergence.
+"""The evidence report: speed vs accuracy, the stability matrix, solvers, parallel/memory, kernels, Newton convergence,
+verification (error vs h and vs time).
 
-usage: bench/evidence.py quick|full [--build DIR] [--sections 1,2,3,4,5,6]
+usage: bench/evidence.py quick|full [--build DIR] [--sections 1,2,3,4,5,6,7]
 
 Called by bench/run (which builds aries and the STREAM triad first). Runs aries on the scenes of options/ with
 bounded steps and subprocess timeouts and writes docs/results.md plus the PNG charts in docs/images/results/ (full:
@@ -1044,6 +1045,55 @@ def section_scaling(cfg):
 
 # ----------------------------------------------------------------------------------------------------------------
 # Section 5: kernels
+def section_verification(cfg):
+    """7. The verification study (bench/verification.py: exact solutions and published reference values) charted:
+    error vs mesh size and error vs solver time, one line per convergence study; its tables and the sources of the
+    reference values go to docs/verification.md, rewritten by the same run."""
+    import argparse
+    sys.path.insert(0, os.path.join(ROOT, "bench"))
+    import verification
+    start = time.monotonic()
+    sections = verification.study(argparse.Namespace(build=BUILD, ranks=2, out=os.path.join(WORK, "verification")))
+    verification.write_report(sections, time.monotonic() - start, "bench/run %s (section 7)" % cfg["mode"])
+    series = verification.SERIES
+    fig, axes = plt.subplots(1, 2, figsize=(12, 4.8))
+    markers = "osD^v<>ph*"
+    for k, sr in enumerate(series):
+        lab = "%s: %s" % (sr["problem"], sr["label"])
+        axes[0].loglog(sr["h"], sr["error"], "-" + markers[k % len(markers)], label=lab)
+        axes[1].loglog([max(t, 1e-3) for t in sr["time"]], sr["error"], "-" + markers[k % len(markers)], label=lab)
+    axes[0].set_xlabel("mesh size h (1/n for the grids, the target edge length for the sphere) (log)")
+    axes[1].set_xlabel("solver wall time [s], 2 ranks (log)")
+    for ax in axes:
+        ax.set_ylabel("error (per study: see the table) (log)")
+        ax.grid(True, which="both", alpha=0.3)
+    hs_all = [h for sr in series for h in sr["h"]]
+    h = np.logspace(np.log10(min(hs_all)), np.log10(max(hs_all)), 5)
+    h0, e0 = series[0]["h"][-1], series[0]["error"][-1]  # a slope-2 guide half a decade below the first study's end
+    axes[0].loglog(h, 0.3 * e0 * (h / h0) ** 2, "k:", lw=1, label="slope 2")
+    axes[0].legend(fontsize=7, loc="best")
+    fig.suptitle("Verification: error vs h and vs solver time (bench/verification.py)", fontsize=10)
+    fig.tight_layout()
+    png = os.path.join(IMG, "verification.png")
+    fig.savefig(png, dpi=110)
+    plt.close(fig)
+    lines = ["## 7. Verification: error vs mesh size and vs solver time\n",
+             "The convergence studies of bench/verification.py (run here on 2 ranks; %d problems: %s), charted. Error "
+             "measures differ by study (column 'error'); each study's meshes, references and their sources are in "
+             "docs/verification.md, which the same code writes. Order: log(e_k-1 / e_k) / log(h_k-1 / h_k) between the "
+             "two finest meshes.\n" % (len(sections), "; ".join(t for t, _, _ in sections)),
+             "![verification: error vs h and vs time](%s/verification.png)\n" % IMG_REL,
+             "| study | error | meshes | finest h | finest error | order (finest pair) | solver time, finest [s] |",
+             "|---|---|---:|---:|---:|---:|---:|"]
+    for sr in series:
+        hs, es = sr["h"], sr["error"]
+        order = (math.log(es[-2] / es[-1]) / math.log(hs[-2] / hs[-1])) if es[-1] > 0 and es[-2] > 0 else float("nan")
+        lines.append("| %s: %s | %s | %d | %.4g | %.3e | %.2f | %.2f |" % (
+            sr["problem"], sr["label"], sr["error_kind"], len(hs), hs[-1], es[-1], order, sr["time"][-1]))
+    lines.append("")
+    return lines
+
+
 def section_kernels(cfg):
     env = dict(os.environ, MIN_TIME=cfg["kernel_min_time"], BUILD_DIR=BUILD)
     p = subprocess.run(["bash", os.path.join(BENCH, "kernels.sh")], env=env, capture_output=True, text=True,
@@ -1107,12 +1157,13 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("mode", choices=list(MODES))
     ap.add_argument("--build", default=os.path.join(ROOT, "build-bench"))
-    ap.add_argument("--sections", default="1,2,3,4,5,6")
+    ap.add_argument("--sections", default="1,2,3,4,5,6,7")
     ap.add_argument("--reuse", action="store_true",
                     help="read back finished runs with the same command line instead of running them again")
     a = ap.parse_args()
     REUSE = a.reuse
     cfg = dict(MODES[a.mode])
+    cfg["mode"] = a.mode
     cfg["timeout_acc"] = 300 if a.mode == "quick" else 3600
     if a.mode == "full":
         IMG_REL = "images/results-full"
@@ -1137,7 +1188,7 @@ def main():
                            capture_output=True, text=True).stdout.strip()
     t0 = time.monotonic()
     sections = {1: section_speed_accuracy, 2: section_stability, 3: section_solvers, 4: section_scaling,
-                5: section_kernels, 6: section_newton}
+                5: section_kernels, 6: section_newton, 7: section_verification}
     chosen = [int(s) for s in a.sections.split(",")]
     body, timing = [], []
     for k in sorted(sections):
@@ -1152,7 +1203,7 @@ def main():
     mem = open("/proc/meminfo").readline().split()[1]
     s1 = SUMMARY["scaling"][1] if "scaling" in SUMMARY else None
     s2 = SUMMARY["scaling"][2] if "scaling" in SUMMARY else None
-    head = ["# aries: evidence (speed, accuracy, stability, solvers, scaling, kernels)\n",
+    head = ["# aries: evidence (speed, accuracy, stability, solvers, scaling, kernels, Newton, verification)\n",
             "Generated by `bench/run %s` on %s UTC in %.1f min (%s). **Do not edit by hand**: every number below "
             "comes from that run (the paper's numbers from bench/scenes.py).\n" % (
                 a.mode, datetime.datetime.utcnow().strftime("%Y-%m-%d %H:%M"), (time.monotonic() - t0) / 60,
