@@ -598,8 +598,8 @@ def build_cook(p):
     """Cook's membrane (Cook 1974; the plane-stress benchmark of e.g. Simo & Rifai 1990): the quadrilateral panel with
     corners (0,0), (48,44), (48,60), (0,44) in the plane z = 0, an n x n grid of the bilinear map of the unit square,
     each cell split along its (0,0)-(1,1) diagonal: 2 n^2 triangles, normals +z. Edge groups: left (x = 0, clamped in
-    the benchmark) and right (x = 48, the shear load); vertex group tip = (48, 60), where the benchmark reads the
-    vertical displacement."""
+    the benchmark) and right (x = 48, the shear load); vertex groups mid_edge = (48, 52), the loaded edge's midpoint,
+    where the benchmark reads the vertical displacement (its reference 23.96), and tip = (48, 60), the top corner."""
     n = p["n"]
     g = np.linspace(0.0, 1.0, n + 1)
     eta, xi = np.meshgrid(g, g, indexing="ij")
@@ -617,6 +617,7 @@ def build_cook(p):
     m.add_edge_set(1, "left", loop[(np.abs(E[:, :, 0]) < 1e-9).all(1)])
     m.add_edge_set(2, "right", loop[(np.abs(E[:, :, 0] - 48.0) < 1e-9).all(1)])
     m.add_vertex_set(11, "tip", [int(np.argmin(np.abs(m.X[:, 0] - 48.0) + np.abs(m.X[:, 1] - 60.0)))])
+    m.add_vertex_set(12, "mid_edge", [int(np.argmin(np.abs(m.X[:, 0] - 48.0) + np.abs(m.X[:, 1] - 52.0)))])
     return m, {}, {"source": "structured bilinear map (meshes/tools/build.py)", "n": n}
 
 
