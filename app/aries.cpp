@@ -4,6 +4,7 @@
 // 2 internal error, 3 the simulation failed a step and stopped (-on_failure stop).
 #include "fem/discretization.hpp"
 #include "core/errors.hpp"
+#include "core/parallel.hpp"
 #include "core/options.hpp"
 #include "io/io_options.hpp"
 #include "io/options_help.hpp"
@@ -13,11 +14,14 @@
 
 #include <petscsys.h>
 
+#include <sys/resource.h>
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <string>
+#include <vector>
 
 using namespace aries;
 
@@ -76,6 +80,35 @@ PetscErrorCode checkUnusedOptions(MPI_Comm comm, PetscBool strict, bool atEnd) {
   PetscFunctionReturn(0);
 }
 
+// The run's resources, one line: wall times (the largest over the ranks) of the setup (options, mesh, layout, files),
+// the steps (of which the model's evaluations: energy, gradient, Hessian) and the output (statistics and files), and
+// every rank's peak resident memory (getrusage; min / median / max beyond 8 ranks). Collective.
+PetscErrorCode printResources(MPI_Comm comm, double setupSeconds, const solver::RunSummary &summary,
+                              double outputSeconds) {
+  PetscFunctionBeginUser;
+  struct rusage usage;
+  getrusage(RUSAGE_SELF, &usage);
+  std::vector<double> rss;  // MB, rank 0 only
+  PetscCall(core::gatherOnRoot(comm, {usage.ru_maxrss / 1024.0}, &rss));
+  double mine[3] = {setupSeconds, summary.assemblySeconds, outputSeconds}, most[3];
+  PetscCallMPI(MPI_Reduce(mine, most, 3, MPI_DOUBLE, MPI_MAX, 0, comm));
+  std::string mem;
+  if (rss.size() <= 8) {
+    for (size_t r = 0; r < rss.size(); ++r) mem += (r ? " / " : "") + std::to_string((long)(rss[r] + 0.5));
+  } else {
+    std::vector<double> sorted(rss);
+    std::sort(sorted.begin(), sorted.end());
+    mem = "min " + std::to_string((long)(sorted.front() + 0.5)) + ", median " +
+          std::to_string((long)(sorted[sorted.size() / 2] + 0.5)) + ", max " +
+          std::to_string((long)(sorted.back() + 0.5)) + ", rank 0 " + std::to_string((long)(rss[0] + 0.5));
+  }
+  PetscCall(PetscPrintf(comm,
+                        "aries: wall time setup %.2f s, steps %.2f s (model evaluations %.2f s), output %.2f s; peak "
+                        "memory per rank %s MB\n",
+                        most[0], summary.totalSeconds, most[1], most[2], mem.c_str()));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode run(int *exitCode) {
   MPI_Comm comm = PETSC_COMM_WORLD;
   PetscLogStage setupStage;
@@ -98,6 +131,7 @@ PetscErrorCode run(int *exitCode) {
     if (!(help && haveMesh)) PetscFunctionReturn(0);
   }
   PetscCall(core::get(io::opt::strict, &strict));
+  const double setupStart = MPI_Wtime();
   PetscCall(PetscLogStageRegister("setup", &setupStage));
   PetscCall(PetscLogStagePush(setupStage));
   solver::SimulationOptions simOpts;
@@ -136,6 +170,7 @@ PetscErrorCode run(int *exitCode) {
   io::RunOutput output;
   PetscCall(output.setup(outOpts, ckOpts, *disc, resumeStep));
   PetscCall(PetscLogStagePop());
+  const double setupSeconds = MPI_Wtime() - setupStart;
 
   PetscMPIInt size;
   PetscCallMPI(MPI_Comm_size(comm, &size));
@@ -157,6 +192,7 @@ PetscErrorCode run(int *exitCode) {
                         summary.avgSeconds, summary.totalSeconds, (int)summary.safeguardHalvings,
                         (int)summary.loadSubsteps,
                         summary.failedSteps ? (", FAILED steps " + std::to_string(summary.failedSteps)).c_str() : ""));
+  PetscCall(printResources(comm, setupSeconds, summary, output.seconds()));
   if (!outOpts.output.empty()) PetscCall(PetscPrintf(comm, "aries: output %s.xmf\n", outOpts.output.c_str()));
   if (summary.failed) {
     PetscCall(PetscPrintf(comm, "aries: step %d failed (%s); stopped (-on_failure stop). The last accepted state was "

@@ -1374,6 +1374,28 @@ def case_version():
     print("aries %s (git %s) in -version, the stats header and the output files" % (version, commit))
 
 
+def case_run_resources():
+    """The run's resource line: setup, step, model-evaluation and output wall times and one peak-memory entry per
+    rank; the evaluations are part of the steps' time, which is the stats' wall_s summed."""
+    tag = "resources_np%d" % ARGS.ranks
+    log, _ = run(["-dm_plex_filename", mesh("bunny"), "-steps", "2", "-output", out_base(tag), "-stats",
+                  out_base(tag) + ".csv"], tag=tag)
+    m = re.search(r"^aries: wall time setup (\S+) s, steps (\S+) s \(model evaluations (\S+) s\), output (\S+) s; "
+                  r"peak memory per rank (.+) MB$", log, re.M)
+    if not m:
+        fail("no resource line in the run's output")
+    setup, steps, model, output = (float(m.group(k)) for k in range(1, 5))
+    memory = [float(v) for v in m.group(5).split(" / ")]
+    wall = sum(float(r["wall_s"]) for r in stats(out_base(tag) + ".csv"))
+    print("setup %.2f s, steps %.2f s (stats: %.2f s), model evaluations %.2f s, output %.2f s; memory %s MB"
+          % (setup, steps, wall, model, output, memory))
+    if len(memory) != ARGS.ranks or not all(v > 10 for v in memory):
+        fail("expected one peak memory above 10 MB per rank (%d ranks), got %s" % (ARGS.ranks, memory))
+    if not (setup > 0 and output > 0 and 0 < model <= steps and abs(steps - wall) <= 0.01 + 1e-3 * wall):
+        fail("inconsistent times: setup %g, steps %g (stats %g), model %g, output %g" % (setup, steps, wall, model,
+                                                                                            output))
+
+
 def case_output_times():
     """Output times are start + k dt, not a running sum: three steps of dt = 0.1 are at 0.1, 0.2, 0.3 exactly (k * 0.1
     in double, 0.30000000000000004 for k = 3) in the step files, and the XDMF index reads 0.1, 0.2, 0.3."""
@@ -1545,6 +1567,7 @@ CASES = {
     "inflate_ranks_agree": case_inflate_ranks_agree,
     "patch_tests": case_patch_tests,
     "symmetry_supports": case_symmetry_supports,
+    "run_resources": case_run_resources,
     "ortho_cube": case_ortho_cube,
     "ranks_agree": case_ranks_agree,
     "safeguard_basic": lambda: case_safeguard("basic"),

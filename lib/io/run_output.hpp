@@ -44,8 +44,10 @@ class RunOutput final : public solver::StepObserver {
                        const fem::Discretization &disc, PetscInt resumeAfterStep = -1);
   PetscErrorCode initial(const solver::Simulation &sim) override;
   PetscErrorCode afterStep(const solver::Simulation &sim, const solver::StepReport &report) override;
+  double seconds() const { return seconds_; }  // wall time of this rank in initial() and afterStep() so far
 
  private:
+  PetscErrorCode record(const solver::Simulation &sim, const solver::StepReport &report);
   PetscErrorCode writeState(const solver::Simulation &sim, PetscInt step, double time);
 
   OutputOptions opts_;
@@ -58,6 +60,7 @@ class RunOutput final : public solver::StepObserver {
   PetscLogStage outputStage_ = -1;
   double runStart_ = -1.0;  // wall clock at the start of this run's first step (progress: elapsed time and ETA)
   PetscInt firstStep_ = 0;
+  double seconds_ = 0.0;
 };
 
 }  // namespace aries::io

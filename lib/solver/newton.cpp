@@ -20,6 +20,7 @@ NewtonResult &NewtonResult::operator+=(const NewtonResult &o) {
   const bool updatedBefore = newtonIterations > o.newtonIterations;
   convergence = o.convergence == Convergence::Initial && updatedBefore ? Convergence::NewtonStep : o.convergence;
   residualNorm = o.residualNorm;
+  assemblySeconds += o.assemblySeconds;
   barrierFallbackCells = std::max(barrierFallbackCells, o.barrierFallbackCells);
   barrierActiveCells = std::max(barrierActiveCells, o.barrierActiveCells);
   history.insert(history.end(), o.history.begin(), o.history.end());

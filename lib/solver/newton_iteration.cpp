@@ -19,13 +19,27 @@ constexpr double kFlatDirectionFactor = 1e3;
 
 // ---- the shared services -----------------------------------------------------------------------------------------
 
+PetscErrorCode NewtonContext::beginAssembly() {
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogStagePush(assemblyStage));
+  assemblyStart = MPI_Wtime();
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode NewtonContext::endAssembly() {
+  PetscFunctionBeginUser;
+  result.assemblySeconds += MPI_Wtime() - assemblyStart;
+  PetscCall(PetscLogStagePop());
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode NewtonContext::energyAt(Vec x, PetscReal *value, PetscReal *magnitude) {
   LocalVec xl(disc->dm());
   PetscFunctionBeginUser;
-  PetscCall(PetscLogStagePush(assemblyStage));
+  PetscCall(beginAssembly());
   PetscCall(xl.fromGlobal(x, disc));
   PetscCall(disc->objective(xl.get(), value, magnitude));
-  PetscCall(PetscLogStagePop());
+  PetscCall(endAssembly());
   PetscFunctionReturn(0);
 }
 
@@ -41,9 +55,9 @@ PetscErrorCode NewtonContext::gram(Vec X, const std::vector<Vec> &directions, st
     PetscCall(dl[k]->fromGlobal(directions[k], nullptr));
     d[k] = dl[k]->get();
   }
-  PetscCall(PetscLogStagePush(assemblyStage));
+  PetscCall(beginAssembly());
   PetscCall(disc->curvatureGram(xl.get(), d, G));
-  PetscCall(PetscLogStagePop());
+  PetscCall(endAssembly());
   PetscFunctionReturn(0);
 }
 
@@ -77,18 +91,18 @@ PetscErrorCode NewtonSolver::boundaryLocal(DM, Vec xLocal, void *ctx) {
 PetscErrorCode NewtonSolver::functionLocal(DM, Vec xLocal, Vec gLocal, void *ctx) {
   auto *self = static_cast<NewtonSolver *>(ctx);
   PetscFunctionBeginUser;
-  PetscCall(PetscLogStagePush(self->ctx_.assemblyStage));
+  PetscCall(self->ctx_.beginAssembly());
   PetscCall(self->ctx_.disc->gradient(xLocal, gLocal));
-  PetscCall(PetscLogStagePop());
+  PetscCall(self->ctx_.endAssembly());
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode NewtonSolver::jacobianLocal(DM, Vec xLocal, Mat, Mat P, void *ctx) {
   auto *self = static_cast<NewtonSolver *>(ctx);
   PetscFunctionBeginUser;
-  PetscCall(PetscLogStagePush(self->ctx_.assemblyStage));
+  PetscCall(self->ctx_.beginAssembly());
   PetscCall(self->ctx_.disc->hessian(xLocal, P));
-  PetscCall(PetscLogStagePop());
+  PetscCall(self->ctx_.endAssembly());
   if (self->opts_.inertiaGuess) PetscCall(self->inertiaGuess(P));
   PetscFunctionReturn(0);
 }

@@ -53,6 +53,7 @@ struct NewtonResult {
   PetscInt barrierFallbackCells = 0;  // cells evaluated with the mollifier in barrier mode (alpha ~ 0)
   PetscInt barrierActiveCells = 0;    // cells with an active aberration barrier (0 < alpha < eps) at the step start
   PetscReal residualNorm = 0.0;       // |gradient of the potential|_2 over the free dofs at the last iterate
+  double assemblySeconds = 0.0;       // wall time in the model's energy, gradient, Hessian and curvature evaluations
   std::vector<IterationRecord> history;
   bool converged() const { return reason > 0; }
   NewtonResult &operator+=(const NewtonResult &o);  // sums the counters, keeps o's outcome, appends its history
@@ -73,9 +74,13 @@ struct NewtonContext {
   double stepTol = 0.0;   // the converged step's inf-norm
   bool psdHessian = true; // the element Hessians are filtered to be PSD (the backward-Euler step bound needs it)
   PetscLogStage assemblyStage = -1;
+  double assemblyStart = 0.0;
   NewtonResult result;    // the solve in progress
 
   PetscErrorCode energyAt(Vec x, PetscReal *value, PetscReal *magnitude);  // total potential at a global state
+  // Around every evaluation of the model: the "assembly" log stage (-log_view) and result.assemblySeconds.
+  PetscErrorCode beginAssembly();
+  PetscErrorCode endAssembly();
   // G_kl = d_k^T H d_l with the exact (unfiltered) Hessian at X.
   PetscErrorCode gram(Vec X, const std::vector<Vec> &directions, std::vector<double> *G);
   // Backward Euler's bound on |H^-1 g|_inf (infinite where none holds).

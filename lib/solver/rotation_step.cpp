@@ -26,9 +26,9 @@ PetscErrorCode RotationalUpdate::shapeDirection(NewtonContext &ctx, Direction &d
   PetscCall(VecScale(Y, -1.0));  // the displacement is -Y
   PetscCall(dl.fromGlobal(Y, nullptr));
   PetscCall(VecScale(Y, -1.0));
-  PetscCall(PetscLogStagePush(ctx.assemblyStage));
+  PetscCall(ctx.beginAssembly());
   PetscCall(kin.vertexSpin(xl.get(), dl.get(), &spin));
-  PetscCall(PetscLogStagePop());
+  PetscCall(ctx.endAssembly());
   Vec out, cand, best;
   PetscCall(DMGetLocalVector(dm, &out));
   PetscCall(VecDuplicate(Y, &cand));

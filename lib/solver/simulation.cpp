@@ -352,6 +352,7 @@ PetscErrorCode Simulation::run(StepObserver *observer, RunSummary *summary) {
     totalNewton += rep.newton.newtonIterations;
     totalLinear += rep.newton.linearIterations;
     totalSeconds += rep.wallSeconds;
+    summary->assemblySeconds += rep.newton.assemblySeconds;
     summary->stepsDone = step;
     summary->safeguardHalvings += rep.newton.safeguardHalvings;
     summary->lastReason = rep.reason;

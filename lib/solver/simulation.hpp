@@ -42,6 +42,7 @@ PetscErrorCode readSimulationOptions(SimulationOptions *opts);
 struct RunSummary {
   PetscInt stepsDone = 0, failedSteps = 0;
   double avgNewton = 0.0, avgLinear = 0.0, avgSeconds = 0.0, totalSeconds = 0.0;
+  double assemblySeconds = 0.0;  // of totalSeconds: the model's evaluations (energy, gradient, Hessian)
   PetscInt dofs = 0, safeguardHalvings = 0, loadSubsteps = 0;
   bool failed = false;  // stopped by a failed step (policy stop)
   std::string lastReason;
