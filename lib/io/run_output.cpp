@@ -27,9 +27,9 @@ const std::vector<OutputField> &outputFields() {
       {"deformation_gradient", S::StressMeasures, 9, "F from the rest shape to the current shape (rows beyond the space "
                                                      "dimension 0)"},
       {"region", S::Regions, 1, "0 = the global material, k = the k-th -regions entry"},
-      {"velocity", S::Velocity, 3, "backward Euler velocity of the free vertices (0 on Dirichlet vertices)"},
-      {"reaction", S::Reactions, 3, "on Dirichlet vertices dE/dx, the force the support exerts (its sum over a set = the "
-                                    "-reactions row); 0 on free vertices"},
+      {"velocity", S::Velocity, 3, "backward Euler velocity of the free components (0 in held ones)"},
+      {"reaction", S::Reactions, 3, "in the held components of Dirichlet vertices dE/dx, the force the support "
+                                    "exerts (its sum over a set = the -reactions row); 0 elsewhere"},
       {"marker", S::Markers, 1, "k for a vertex of the k-th Dirichlet set (-bc_clamp ids in order, then -bc_box "
                                 "boxes), 0 if free"},
   };
