@@ -56,7 +56,7 @@ PetscErrorCode accumulateBoundaryFaces(const Mesh &mesh, const std::vector<Eigen
     if (nsupp != 1 || shared[f - pStart]) continue;
     const PetscInt *supp;
     PetscCall(DMPlexGetSupport(dm, f, &supp));
-    PetscCall(cellVertices(mesh, supp[0], &cv));
+    PetscCall(closureVertices(mesh, supp[0], &cv));
     PetscInt ncl, *closure = nullptr;
     fv.clear();
     PetscCall(DMPlexGetTransitiveClosure(dm, f, PETSC_TRUE, &ncl, &closure));
@@ -101,7 +101,7 @@ PetscErrorCode cellValues(const Mesh &mesh, const std::vector<double> &values, C
   double lo = 1e300, hi = -1e300;
   PetscInt degenerate = 0;
   for (PetscInt c = 0; c < nc; ++c) {
-    PetscCall(cellVertices(mesh, c + mesh.cStart, &cv));
+    PetscCall(closureVertices(mesh, c + mesh.cStart, &cv));
     double H = 0.0;
     Eigen::Vector3d n = Eigen::Vector3d::Zero();
     for (PetscInt v : cv) {

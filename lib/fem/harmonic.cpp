@@ -45,7 +45,7 @@ PetscErrorCode harmonicExtension(const Mesh &mesh, HarmonicProblem *p) {
   std::vector<double> Ke(nv * nv);
   for (PetscInt c = mesh.cStart; c < mesh.cEnd; ++c) {
     if (!mesh.cellOwned[c - mesh.cStart]) continue;
-    PetscCall(cellVertices(mesh, c, &verts));
+    PetscCall(closureVertices(mesh, c, &verts));
     p->cellStiffness(c - mesh.cStart, verts.data(), Ke.data());
     for (int i = 0; i < nv; ++i) {
       PetscInt off;

@@ -521,17 +521,6 @@ PetscErrorCode sumOverSharedVertices(const Mesh &mesh, int ncomp, std::vector<do
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode cellVertices(const Mesh &mesh, PetscInt c, std::vector<PetscInt> *vertices) {
-  PetscInt ncl, *closure = nullptr;
-  PetscFunctionBeginUser;
-  vertices->clear();
-  PetscCall(DMPlexGetTransitiveClosure(mesh.dm, c, PETSC_TRUE, &ncl, &closure));
-  for (PetscInt i = 0; i < ncl; ++i)
-    if (closure[2 * i] >= mesh.vStart && closure[2 * i] < mesh.vEnd) vertices->push_back(closure[2 * i] - mesh.vStart);
-  PetscCall(DMPlexRestoreTransitiveClosure(mesh.dm, c, PETSC_TRUE, &ncl, &closure));
-  PetscFunctionReturn(0);
-}
-
 PetscErrorCode vertexRestPositions(const Mesh &mesh, std::vector<Eigen::Vector3d> *rest) {
   Vec coordsLocal;
   PetscSection coordSection;

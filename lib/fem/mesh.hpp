@@ -56,7 +56,8 @@ PetscErrorCode physicalGroupFacets(const Mesh &mesh, const std::string &idOrName
 // present, `purpose` saying what the option needs. Collective.
 PetscErrorCode ownedGroupFacets(const Mesh &mesh, const std::vector<char> &copy, const std::string &idOrName,
                                 const std::string &option, const char *purpose, std::vector<PetscInt> *owned);
-// The vertices (local indices v - vStart) in the closure of a DM point, in closure order.
+// The vertices (local indices v - vStart) in the closure of a DM point (a cell, a facet), in closure order. Not
+// collective.
 PetscErrorCode closureVertices(const Mesh &mesh, PetscInt point, std::vector<PetscInt> *vertices);
 
 // The label and value that mark the cells of a volume group (id or name): "Cell Sets", or the group's own label
@@ -72,10 +73,5 @@ PetscErrorCode vertexRestPositions(const Mesh &mesh, std::vector<Eigen::Vector3d
 // Sums per-vertex contributions over all ranks that hold the vertex: `values` holds `ncomp` numbers per local vertex
 // (index v - vStart); on return every copy holds the total. Collective.
 PetscErrorCode sumOverSharedVertices(const Mesh &mesh, int ncomp, std::vector<double> *values);
-
-
-
-// The local vertices (index v - vStart) of local cell c, in closure order. Not collective.
-PetscErrorCode cellVertices(const Mesh &mesh, PetscInt c, std::vector<PetscInt> *vertices);
 
 }  // namespace aries::fem

@@ -112,21 +112,7 @@ PetscErrorCode BendingHinges::addHessian(const PetscScalar *x, const HessianAsse
     positions(h, x, xs);
     const auto d = kernels::quadraticBending(h.rest, xs, stiffness_, kernels::Order::Hessian);
     const Eigen::Matrix<double, 12, 12, Eigen::RowMajor> K = d.hess;
-    if (how.blocked) {  // 3x3 blocks, as the cells: the off-rank ones go through the block stash
-      PetscInt blockRows[4];
-      for (int i = 0; i < 4; ++i) {
-        const auto &vi = verts_[h.vertex[i]];
-        blockRows[i] = vi.numFree == 0 ? -1 : vi.global / 3;
-      }
-      PetscCall(MatSetValuesBlocked(J, 4, blockRows, 4, blockRows, K.data(), ADD_VALUES));
-      continue;
-    }
-    PetscInt rows[12];
-    for (int i = 0; i < 4; ++i) {
-      const auto &vi = verts_[h.vertex[i]];
-      for (int k = 0; k < 3; ++k) rows[3 * i + k] = vi.row(k);
-    }
-    PetscCall(MatSetValues(J, 12, rows, 12, rows, K.data(), ADD_VALUES));
+    PetscCall((addElementMatrix<4, 3>(verts_, h.vertex, K.data(), how, J)));  // as the cells' (the same stash)
   }
   PetscFunctionReturn(0);
 }

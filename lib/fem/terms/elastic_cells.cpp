@@ -59,21 +59,7 @@ PetscErrorCode ElasticCells<R, C>::addHessian(const PetscScalar *x, const Hessia
           for (int j = 0; j < C; ++j) s += cell.W(v, j) * HB(i * C + j, col);
           K(v * R + i, col) = s;
         }
-    if (how.blocked) {
-      PetscInt rows[NV];
-      for (int v = 0; v < NV; ++v) {
-        const auto &vi = verts_[cell.vertex[v]];
-        rows[v] = vi.numFree == 0 ? -1 : vi.global / R;
-      }
-      PetscCall(MatSetValuesBlocked(J, NV, rows, NV, rows, K.data(), ADD_VALUES));
-    } else {
-      PetscInt rows[NDOF];
-      for (int v = 0; v < NV; ++v) {
-        const auto &vi = verts_[cell.vertex[v]];
-        for (int i = 0; i < R; ++i) rows[v * R + i] = vi.row(i);
-      }
-      PetscCall(MatSetValues(J, NDOF, rows, NDOF, rows, K.data(), ADD_VALUES));
-    }
+    PetscCall((addElementMatrix<NV, R>(verts_, cell.vertex, K.data(), how, J)));
   }
   PetscFunctionReturn(0);
 }

@@ -140,21 +140,7 @@ PetscErrorCode FollowerPressure::addHessian(const PetscScalar *x, const HessianA
                                            center_[t.set], kernels::Order::Hessian);
     const kernels::Mat<9, 9> H = kernels::filterEigenvalues<9>((s_ * pressure_[t.set]) * d.hess, how.filter.filter);
     const Eigen::Matrix<double, 9, 9, Eigen::RowMajor> K = H;
-    if (how.blocked) {
-      PetscInt blockRows[3];
-      for (int i = 0; i < 3; ++i) {
-        const auto &vi = verts_[t.vertex[i]];
-        blockRows[i] = vi.numFree == 0 ? -1 : vi.global / 3;
-      }
-      PetscCall(MatSetValuesBlocked(J, 3, blockRows, 3, blockRows, K.data(), ADD_VALUES));
-      continue;
-    }
-    PetscInt rows[9];
-    for (int i = 0; i < 3; ++i) {
-      const auto &vi = verts_[t.vertex[i]];
-      for (int k = 0; k < 3; ++k) rows[3 * i + k] = vi.row(k);
-    }
-    PetscCall(MatSetValues(J, 9, rows, 9, rows, K.data(), ADD_VALUES));
+    PetscCall((addElementMatrix<3, 3>(verts_, t.vertex, K.data(), how, J)));
   }
   PetscFunctionReturn(0);
 }

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "energies/energy.hpp"
+#include "fem/vertex_layout.hpp"
 
 #include <petscmat.h>
 
@@ -14,7 +15,8 @@
 namespace aries::fem {
 
 // How the Hessian is assembled: the element Hessians' eigenvalue filter (projected Newton) and whether the matrix
-// takes blocks of the vertex dofs (BAIJ with bs = dofs per vertex) or scalar entries (AIJ, for GAMG).
+// takes blocks of the vertex dofs (BAIJ with bs = dofs per vertex) or scalar entries (AIJ: for GAMG, or where a vertex
+// is held in some components only).
 struct HessianAssembly {
   energies::HessianFilter filter;
   bool blocked = true;
@@ -41,6 +43,28 @@ class Term {
   // Values this term adds to rows another rank owns in one Hessian assembly (an upper bound), to size PETSc's stash.
   virtual PetscInt offRankHessianValues() const { return 0; }
 };
+
+// Adds an element matrix K (row-major, (NV R) x (NV R), R dofs per vertex of the element's NV local vertices) into J:
+// as R x R blocks into BAIJ, or entry by entry into AIJ; prescribed dofs are skipped (negative rows).
+template <int NV, int R, class Vertices>
+inline PetscErrorCode addElementMatrix(const VertexTable &verts, const Vertices &vertex, const double *K,
+                                       const HessianAssembly &how, Mat J) {
+  PetscFunctionBeginUser;
+  if (how.blocked) {  // every vertex all free or all held (a partly held vertex makes the matrix AIJ)
+    PetscInt rows[NV];
+    for (int v = 0; v < NV; ++v) {
+      const VertexInfo &vi = verts[vertex[v]];
+      rows[v] = vi.numFree == 0 ? -1 : vi.global / R;
+    }
+    PetscCall(MatSetValuesBlocked(J, NV, rows, NV, rows, K, ADD_VALUES));
+  } else {
+    PetscInt rows[NV * R];
+    for (int v = 0; v < NV; ++v)
+      for (int i = 0; i < R; ++i) rows[v * R + i] = verts[vertex[v]].row(i);
+    PetscCall(MatSetValues(J, NV * R, rows, NV * R, rows, K, ADD_VALUES));
+  }
+  PetscFunctionReturn(0);
+}
 
 // Accumulates sum_kl a_k^T M a_l for a term's pieces a_k of the K directions (the columns of A).
 template <class DirMat, class HessMat>
