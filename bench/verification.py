@@ -16,6 +16,7 @@ Problems (each a function below, its reference in its docstring and in the repor
 import argparse
 import datetime
 import glob
+import json
 import math
 import os
 import subprocess
@@ -26,6 +27,8 @@ import h5py
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "meshes", "tools"))
+import build  # noqa: E402  (the Cook panel's nodes and triangles, for the independent CST code)
 ARGS = None
 SERIES = []  # per convergence study: its problem, label, mesh sizes h, errors and solve times (bench/evidence.py charts)
 
@@ -151,7 +154,6 @@ def simple_shear():
         else:
             out = subprocess.run([os.path.join(ARGS.build, "aries-matpoint")] + material + ["-F", affine, "-json"],
                                  capture_output=True, text=True, check=True).stdout
-            import json
             P = np.array(json.loads(out)["pk1"]).reshape(3, 3)
         for size, n in cube_sizes()[:3]:
             args = ["-dm_plex_filename", mesh("cube", size)] + material + ["-bc_clamp", ",".join(groups)]
@@ -245,20 +247,12 @@ def lame_sphere():
 
 
 def cook_cst(n, E=1.0, nu=1.0 / 3.0):
-    """The same problem by an independent linear-elastic constant-strain-triangle code (numpy/scipy, plane stress) on
-    the same n x n mesh: the vertical displacement at (48, 52) for F = 1."""
+    """The same problem by an independent linear-elastic constant-strain-triangle code (numpy/scipy, plane stress; it
+    shares only the mesh with aries, from meshes/tools/build.py) on the same n x n mesh: the vertical displacement at
+    (48, 52) for F = 1."""
     import scipy.sparse as sparse
     import scipy.sparse.linalg as sparse_linalg
-    g = np.linspace(0.0, 1.0, n + 1)
-    eta, xi = np.meshgrid(g, g, indexing="ij")
-    xi, eta = xi.ravel(), eta.ravel()
-    corner = np.array([[0.0, 0.0], [48.0, 44.0], [48.0, 60.0], [0.0, 44.0]])
-    X = (np.outer((1 - xi) * (1 - eta), corner[0]) + np.outer(xi * (1 - eta), corner[1])
-         + np.outer(xi * eta, corner[2]) + np.outer((1 - xi) * eta, corner[3]))
-    N = n + 1
-    j, i = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
-    a = (i + N * j).ravel()
-    T = np.stack([np.c_[a, a + 1, a + 1 + N], np.c_[a, a + 1 + N, a + N]], 1).reshape(-1, 3)
+    X, T = build.cook_panel_points(n), build.grid_triangles(n, n)  # the mesh of meshes/generate.sh cook
     D = E / (1 - nu ** 2) * np.array([[1, nu, 0], [nu, 1, 0], [0, 0, (1 - nu) / 2]])
     rows, cols, vals = [], [], []
     for t in T:
@@ -389,7 +383,6 @@ def cantilever():
 
 
 def tets_of(size):
-    import json
     with open(mesh("shell", size)[:-4] + ".json") as fh:
         return json.load(fh)["tets"]
 

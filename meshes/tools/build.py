@@ -573,19 +573,26 @@ def freudenthal_tets(nx, ny, nz):
     return np.stack(tets, 1).reshape(-1, 4)
 
 
+def cook_panel_points(n):
+    """The (n+1)^2 nodes i + (n+1) j of Cook's panel: the bilinear map of the unit square's n x n grid onto the
+    quadrilateral (0,0), (48,44), (48,60), (0,44) (x, y)."""
+    g = np.linspace(0.0, 1.0, n + 1)
+    eta, xi = np.meshgrid(g, g, indexing="ij")
+    xi, eta = xi.ravel(), eta.ravel()
+    corners = np.array([[0.0, 0.0], [48.0, 44.0], [48.0, 60.0], [0.0, 44.0]])
+    return (np.outer((1 - xi) * (1 - eta), corners[0]) + np.outer(xi * (1 - eta), corners[1])
+            + np.outer(xi * eta, corners[2]) + np.outer((1 - xi) * eta, corners[3]))
+
+
 def build_cook_slab(p):
     """Cook's membrane as a 3D slab: the panel of build_cook (n x n cells of the bilinear map) extruded over
     z in [0, 1/2], the upper half of a slab 1 thick (one cell layer, 6 Freudenthal tets per cell: 6 n^2 tets). Face
     groups: left (x = 0, clamped in x, y), right (x = 48, the shear load), mid (z = 0, the symmetry plane: held in z)
     and top (z = 1/2, free)."""
     n = p["n"]
-    g = np.linspace(0.0, 1.0, n + 1)
-    zeta, eta, xi = np.meshgrid(np.array([0.0, 1.0]), g, g, indexing="ij")
-    xi, eta, zeta = xi.ravel(), eta.ravel(), zeta.ravel()
-    corners = np.array([[0.0, 0.0], [48.0, 44.0], [48.0, 60.0], [0.0, 44.0]])
-    P = (np.outer((1 - xi) * (1 - eta), corners[0]) + np.outer(xi * (1 - eta), corners[1])
-         + np.outer(xi * eta, corners[2]) + np.outer((1 - xi) * eta, corners[3]))
-    m = mk.TetMesh(np.c_[P, 0.5 * zeta], freudenthal_tets(n, n, 1))
+    P = cook_panel_points(n)
+    layers = np.repeat([0.0, 0.5], len(P))  # node i + (n+1) (j + (n+1) k): the panel at z = 0, then at z = 1/2
+    m = mk.TetMesh(np.c_[np.vstack([P, P]), layers], freudenthal_tets(n, n, 1))
     m.orient()
     F, _ = m.boundary_faces()
     Q = m.X[F]
@@ -601,12 +608,7 @@ def build_cook(p):
     the benchmark) and right (x = 48, the shear load); vertex groups mid_edge = (48, 52), the loaded edge's midpoint,
     where the benchmark reads the vertical displacement (its reference 23.96), and tip = (48, 60), the top corner."""
     n = p["n"]
-    g = np.linspace(0.0, 1.0, n + 1)
-    eta, xi = np.meshgrid(g, g, indexing="ij")
-    xi, eta = xi.ravel(), eta.ravel()
-    corners = np.array([[0.0, 0.0], [48.0, 44.0], [48.0, 60.0], [0.0, 44.0]])
-    P = (np.outer((1 - xi) * (1 - eta), corners[0]) + np.outer(xi * (1 - eta), corners[1])
-         + np.outer(xi * eta, corners[2]) + np.outer((1 - xi) * eta, corners[3]))
+    P = cook_panel_points(n)
     X = np.c_[P, np.zeros(len(P))]
     T = grid_triangles(n, n)
     m = mk.TriMesh(X, T, name="panel")
