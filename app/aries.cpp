@@ -152,7 +152,7 @@ PetscErrorCode run(int *exitCode) {
   PetscInt resumeStep = -1;
   if (!ckOpts.restart.empty()) {
     io::CheckpointState st;
-    PetscCall(io::readCheckpoint(mesh, ckOpts.restart, &st));
+    PetscCall(io::readCheckpoint(*disc, ckOpts.restart, &st));
     if (st.step > simOpts.steps)
       SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "checkpoint '%s' is at step %d, beyond -steps %d",
               ckOpts.restart.c_str(), (int)st.step, (int)simOpts.steps);

@@ -3,6 +3,8 @@
 #include <petscdmplex.h>
 #include <petscsf.h>
 
+#include <algorithm>
+
 namespace aries::core {
 
 PetscErrorCode sharedLeafPoints(DM dm, std::vector<char> *leaf) {
@@ -46,26 +48,109 @@ PetscErrorCode gatherOnRoot(MPI_Comm comm, const std::vector<double> &mine, std:
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode gatherNatural(MPI_Comm comm, const std::vector<PetscInt> &ids, const std::vector<double> &vals,
-                             int comps, PetscInt total, std::vector<double> *out, bool sum) {
-  PetscMPIInt rank;
+namespace {
+
+// Block of natural id `id` among `size` ranks: the first total % size blocks hold one entry more.
+int blockOwner(PetscInt id, PetscInt total, int size) {
+  const PetscInt base = total / size, extra = total % size;
+  const PetscInt split = extra * (base + 1);
+  return id < split ? static_cast<int>(id / (base + 1)) : static_cast<int>(extra + (id - split) / base);
+}
+
+PetscInt blockBegin(int rank, PetscInt total, int size) {
+  const PetscInt base = total / size, extra = total % size;
+  return rank * base + std::min<PetscInt>(rank, extra);
+}
+
+// MPI_Alltoallv of `comps` doubles per entry (counts in entries).
+PetscErrorCode exchange(MPI_Comm comm, const std::vector<double> &send, const std::vector<int> &sendCounts,
+                        const std::vector<int> &sendDispl, std::vector<double> *recv, const std::vector<int> &recvCounts,
+                        const std::vector<int> &recvDispl, int comps) {
   PetscFunctionBeginUser;
+  const size_t n = sendCounts.size();
+  std::vector<int> sc(n), sd(n), rc(n), rd(n);
+  for (size_t p = 0; p < n; ++p) {
+    sc[p] = sendCounts[p] * comps;
+    sd[p] = sendDispl[p] * comps;
+    rc[p] = recvCounts[p] * comps;
+    rd[p] = recvDispl[p] * comps;
+  }
+  PetscCallMPI(MPI_Alltoallv(send.data(), sc.data(), sd.data(), MPI_DOUBLE, recv->data(), rc.data(), rd.data(),
+                             MPI_DOUBLE, comm));
+  PetscFunctionReturn(0);
+}
+
+}  // namespace
+
+PetscErrorCode NaturalBlocks::setup(MPI_Comm comm, PetscInt total, const std::vector<PetscInt> &owned) {
+  PetscMPIInt rank, size;
+  PetscFunctionBeginUser;
+  comm_ = comm;
+  total_ = total;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  std::vector<double> mine, all;  // per entry: id (exact as a double below 2^53), then its values
-  mine.reserve(ids.size() * (comps + 1));
-  for (size_t i = 0; i < ids.size(); ++i) {
-    mine.push_back(static_cast<double>(ids[i]));
-    mine.insert(mine.end(), vals.begin() + i * comps, vals.begin() + (i + 1) * comps);
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  blockStart_ = blockBegin(rank, total, size);
+  blockSize_ = blockBegin(rank + 1, total, size) - blockStart_;
+  std::vector<int> dest(owned.size());
+  sendCounts_.assign(size, 0);
+  for (size_t i = 0; i < owned.size(); ++i) {
+    PetscCheck(owned[i] >= 0 && owned[i] < total, PETSC_COMM_SELF, PETSC_ERR_PLIB, "natural id %d outside [0, %d)",
+               (int)owned[i], (int)total);
+    dest[i] = blockOwner(owned[i], total, size);
+    ++sendCounts_[dest[i]];
   }
-  PetscCall(gatherOnRoot(comm, mine, &all));
-  out->clear();
-  if (rank == 0) {
-    out->assign(static_cast<size_t>(total) * comps, 0.0);
-    for (size_t e = 0; e < all.size(); e += comps + 1) {
-      double *dst = &(*out)[static_cast<size_t>(all[e]) * comps];
-      for (int k = 0; k < comps; ++k) dst[k] = sum ? dst[k] + all[e + 1 + k] : all[e + 1 + k];
-    }
+  sendDispl_.assign(size, 0);
+  for (int p = 1; p < size; ++p) sendDispl_[p] = sendDispl_[p - 1] + sendCounts_[p - 1];
+  sendOrder_.resize(owned.size());
+  std::vector<int> next(sendDispl_);
+  for (size_t i = 0; i < owned.size(); ++i) sendOrder_[next[dest[i]]++] = i;
+  recvCounts_.assign(size, 0);
+  PetscCallMPI(MPI_Alltoall(sendCounts_.data(), 1, MPI_INT, recvCounts_.data(), 1, MPI_INT, comm));
+  recvDispl_.assign(size, 0);
+  for (int p = 1; p < size; ++p) recvDispl_[p] = recvDispl_[p - 1] + recvCounts_[p - 1];
+  const size_t numRecv = size ? static_cast<size_t>(recvDispl_[size - 1]) + recvCounts_[size - 1] : 0;
+  std::vector<double> ids(owned.size()), recvIds(numRecv);  // ids travel as doubles (exact below 2^53)
+  for (size_t k = 0; k < sendOrder_.size(); ++k) ids[k] = static_cast<double>(owned[sendOrder_[k]]);
+  PetscCall(exchange(comm, ids, sendCounts_, sendDispl_, &recvIds, recvCounts_, recvDispl_, 1));
+  recvRow_.resize(numRecv);
+  std::vector<char> seen(blockSize_, 0);
+  for (size_t k = 0; k < numRecv; ++k) {
+    recvRow_[k] = static_cast<PetscInt>(recvIds[k]) - blockStart_;
+    PetscCheck(!seen[recvRow_[k]], PETSC_COMM_SELF, PETSC_ERR_PLIB, "natural id %d is owned by two ranks",
+               (int)(recvRow_[k] + blockStart_));
+    seen[recvRow_[k]] = 1;
   }
+  int complete = numRecv == static_cast<size_t>(blockSize_), all = 0;
+  PetscCallMPI(MPI_Allreduce(&complete, &all, 1, MPI_INT, MPI_MIN, comm));
+  PetscCheck(all, comm, PETSC_ERR_PLIB, "the owned natural ids do not cover [0, %d) exactly once", (int)total);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode NaturalBlocks::toBlocks(const std::vector<double> &owned, int comps, std::vector<double> *block) const {
+  PetscFunctionBeginUser;
+  PetscCheck(owned.size() == sendOrder_.size() * comps, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+             "toBlocks: %d values for %d entries x %d", (int)owned.size(), (int)sendOrder_.size(), comps);
+  std::vector<double> send(owned.size()), recv(recvRow_.size() * comps);
+  for (size_t k = 0; k < sendOrder_.size(); ++k)
+    std::copy_n(owned.begin() + sendOrder_[k] * comps, comps, send.begin() + k * comps);
+  PetscCall(exchange(comm_, send, sendCounts_, sendDispl_, &recv, recvCounts_, recvDispl_, comps));
+  block->assign(static_cast<size_t>(blockSize_) * comps, 0.0);
+  for (size_t k = 0; k < recvRow_.size(); ++k)
+    std::copy_n(recv.begin() + k * comps, comps, block->begin() + static_cast<size_t>(recvRow_[k]) * comps);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode NaturalBlocks::fromBlocks(const std::vector<double> &block, int comps, std::vector<double> *owned) const {
+  PetscFunctionBeginUser;
+  PetscCheck(block.size() == static_cast<size_t>(blockSize_) * comps, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+             "fromBlocks: %d values for a block of %d x %d", (int)block.size(), (int)blockSize_, comps);
+  std::vector<double> send(recvRow_.size() * comps), recv(sendOrder_.size() * comps);
+  for (size_t k = 0; k < recvRow_.size(); ++k)
+    std::copy_n(block.begin() + static_cast<size_t>(recvRow_[k]) * comps, comps, send.begin() + k * comps);
+  PetscCall(exchange(comm_, send, recvCounts_, recvDispl_, &recv, sendCounts_, sendDispl_, comps));
+  owned->assign(sendOrder_.size() * comps, 0.0);
+  for (size_t k = 0; k < sendOrder_.size(); ++k)
+    std::copy_n(recv.begin() + k * comps, comps, owned->begin() + sendOrder_[k] * comps);
   PetscFunctionReturn(0);
 }
 

@@ -1,4 +1,5 @@
-// Parallel helpers shared by every layer above: point-SF leaves, centroids and gathers onto rank 0.
+// Parallel helpers shared by every layer above: point-SF leaves, centroids, gathers onto rank 0 (small data only) and
+// the natural-block layout that output and restart use instead of gathering whole-mesh arrays.
 #pragma once
 
 #include <petscdm.h>
@@ -27,8 +28,32 @@ struct CentroidAccumulator {
 // Concatenates every rank's `mine` on rank 0, in rank order (`all` is empty elsewhere). Collective.
 PetscErrorCode gatherOnRoot(MPI_Comm comm, const std::vector<double> &mine, std::vector<double> *all);
 
-// Gathers (natural id, values) pairs onto rank 0 into a dense array of `total * comps` values (sum: add duplicates).
-PetscErrorCode gatherNatural(MPI_Comm comm, const std::vector<PetscInt> &ids, const std::vector<double> &vals,
-                             int comps, PetscInt total, std::vector<double> *out, bool sum = false);
+// The natural numbering [0, total) of vertices or cells split into one contiguous block per rank (rank r holds
+// [start(r), start(r + 1)), sizes differing by at most one), and the exchange between the entries each rank owns
+// (natural ids in any order, each id owned by one rank) and those blocks. Output files are written block by block
+// (each rank one contiguous hyperslab, no rank ever holds the whole mesh) and restarts read them the same way, on any
+// number of ranks. The exchange pattern is computed once (setup); every move is one MPI_Alltoallv.
+class NaturalBlocks {
+ public:
+  // Collective: `owned` are the natural ids of the entries this rank will pass to toBlocks / receive from fromBlocks.
+  PetscErrorCode setup(MPI_Comm comm, PetscInt total, const std::vector<PetscInt> &owned);
+  PetscInt total() const { return total_; }
+  PetscInt blockStart() const { return blockStart_; }
+  PetscInt blockSize() const { return blockSize_; }
+  size_t numOwned() const { return sendOrder_.size(); }
+  // Collective: `owned` holds `comps` values per owned entry (setup's order); `block` receives blockSize() * comps
+  // values, row i the entry of natural id blockStart() + i. Every id of the block must be owned by some rank.
+  PetscErrorCode toBlocks(const std::vector<double> &owned, int comps, std::vector<double> *block) const;
+  // Collective, the reverse: each owned entry receives its row of the blocks.
+  PetscErrorCode fromBlocks(const std::vector<double> &block, int comps, std::vector<double> *owned) const;
+
+ private:
+  MPI_Comm comm_ = MPI_COMM_NULL;
+  PetscInt total_ = 0, blockStart_ = 0, blockSize_ = 0;
+  std::vector<size_t> sendOrder_;            // owned entry of each send slot (sorted by destination rank)
+  std::vector<int> sendCounts_, sendDispl_;  // entries per destination rank
+  std::vector<int> recvCounts_, recvDispl_;  // entries per source rank
+  std::vector<PetscInt> recvRow_;            // block row of each received entry
+};
 
 }  // namespace aries::core

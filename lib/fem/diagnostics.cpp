@@ -1,6 +1,6 @@
 // What a state looks like beyond its energy: per-cell alpha, guard, energy density, stress measures and regions; the
-// barrier mode's fallback; reactions on the Dirichlet sets; the largest displacement; and the gathers of vertex and
-// cell fields in natural (gmsh) order on rank 0 for output; and the rotational form of a Newton step (the spin of a
+// barrier mode's fallback; reactions on the Dirichlet sets; the largest displacement; the owned vertices' and cells'
+// values with their natural (gmsh-order) ids for output; and the rotational form of a Newton step (the spin of a
 // displacement field per vertex, -newton_rotation).
 #include "fem/discretization_impl.hpp"
 
@@ -9,8 +9,6 @@
 #include <cmath>
 
 namespace aries::fem {
-
-using core::gatherNatural;
 
 template <int R, int C>
 PetscErrorCode DiscretizationT<R, C>::updateBarrierFallback(Vec xLocal, double threshold, PetscInt *count) {
@@ -125,43 +123,57 @@ void DiscretizationT<R, C>::cellRegions(std::vector<double> *regions) const {
 }
 
 template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::gatherVertexReactions(Vec xLocal, std::vector<double> *values) const {
+PetscErrorCode DiscretizationT<R, C>::ownedVertexReactions(Vec xLocal, std::vector<double> *values) const {
   PetscFunctionBeginUser;
   Vec g;
   PetscCall(VecDuplicate(xLocal, &g));
-  PetscCall(gradient(xLocal, g));  // each rank: its own cells' share at every local vertex (summed by the gather)
-  PetscScalar *ga;
-  PetscCall(VecGetArray(g, &ga));
-  for (const auto &vi : verts_)  // the support force only: zero in the free components of a partly held vertex
+  PetscCall(gradient(xLocal, g));  // each rank: its own cells' share at every local vertex
+  const PetscScalar *ga;
+  PetscCall(VecGetArrayRead(g, &ga));
+  std::vector<double> perVertex(3 * verts_.size(), 0.0);
+  for (size_t v = 0; v < verts_.size(); ++v)  // the support force only: zero in the free components
     for (int i = 0; i < R; ++i)
-      if (vi.bcSet >= 0 && !vi.fixed(i)) ga[vi.loc + i] = 0.0;
-  PetscCall(VecRestoreArray(g, &ga));
-  PetscCall(gatherLocalVertexValues(g, [](const VertexInfo &vi) { return vi.bcSet >= 0; }, true, values));
+      if (verts_[v].bcSet >= 0 && verts_[v].fixed(i)) perVertex[3 * v + i] = ga[verts_[v].loc + i];
+  PetscCall(VecRestoreArrayRead(g, &ga));
   PetscCall(VecDestroy(&g));
+  PetscCall(sumOverSharedVertices(*mesh_, 3, &perVertex));  // every rank's share
+  ownedVertexRows(3, [&](size_t v, double *out) { std::copy_n(&perVertex[3 * v], 3, out); }, values);
   PetscFunctionReturn(0);
 }
 
 template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::gatherVertexMarkers(std::vector<double> *values) const {
-  PetscFunctionBeginUser;
-  PetscCall(gatherOwnedVertices(1, [&](size_t v, double *out) { out[0] = verts_[v].bcSet + 1.0; }, values));
-  PetscFunctionReturn(0);
+void DiscretizationT<R, C>::ownedVertexMarkers(std::vector<double> *values) const {
+  ownedVertexRows(1, [&](size_t v, double *out) { out[0] = verts_[v].bcSet + 1.0; }, values);
 }
 
 template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::gatherOwnedVertices(int comps, const std::function<void(size_t, double *)> &value,
-                                                          std::vector<double> *values) const {
-  PetscFunctionBeginUser;
-  std::vector<PetscInt> ids;
-  std::vector<double> vals, one(comps);
+void DiscretizationT<R, C>::ownedVertexRows(int comps, const std::function<void(size_t, double *)> &value,
+                                            std::vector<double> *values) const {
+  values->clear();
+  std::vector<double> one(comps);
   for (size_t v = 0; v < verts_.size(); ++v) {
     if (!verts_[v].owned) continue;
-    ids.push_back(mesh_->naturalVertex[v]);
     value(v, one.data());
-    vals.insert(vals.end(), one.begin(), one.end());
+    values->insert(values->end(), one.begin(), one.end());
   }
-  PetscCall(gatherNatural(comm(), ids, vals, comps, mesh_->numVerticesGlobal, values));
-  PetscFunctionReturn(0);
+}
+
+template <int R, int C>
+void DiscretizationT<R, C>::ownedVertexIds(std::vector<PetscInt> *natural, std::vector<PetscInt> *local) const {
+  natural->clear();
+  if (local) local->clear();
+  for (size_t v = 0; v < verts_.size(); ++v)
+    if (verts_[v].owned) {
+      natural->push_back(mesh_->naturalVertex[v]);
+      if (local) local->push_back(static_cast<PetscInt>(v));
+    }
+}
+
+template <int R, int C>
+void DiscretizationT<R, C>::ownedCellIds(std::vector<PetscInt> *natural) const {
+  natural->clear();
+  for (size_t c = 0; c < cells_.size(); ++c)
+    if (cells_.cells()[c].owned) natural->push_back(mesh_->naturalCell[c]);
 }
 
 template <int R, int C>
@@ -259,72 +271,41 @@ PetscErrorCode DiscretizationT<R, C>::turnBySpin(const std::vector<double> &spin
 }
 
 template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::gatherLocalVertexValues(Vec local,
-                                                              const std::function<bool(const VertexInfo &)> &include,
-                                                              bool sumShares, std::vector<double> *values) const {
+PetscErrorCode DiscretizationT<R, C>::ownedVertexValues(Vec local, std::vector<double> *values) const {
   const PetscScalar *a;
   PetscFunctionBeginUser;
-  std::vector<PetscInt> ids;
-  std::vector<double> vals;
   PetscCall(VecGetArrayRead(local, &a));
-  for (size_t v = 0; v < verts_.size(); ++v) {
-    const VertexInfo &vi = verts_[v];
-    if (!(sumShares || vi.owned) || !include(vi)) continue;
-    ids.push_back(mesh_->naturalVertex[v]);
-    for (int i = 0; i < 3; ++i) vals.push_back(i < R ? a[vi.loc + i] : 0.0);
-  }
+  ownedVertexRows(3, [&](size_t v, double *out) {
+    for (int i = 0; i < 3; ++i) out[i] = i < R ? a[verts_[v].loc + i] : 0.0;
+  }, values);
   PetscCall(VecRestoreArrayRead(local, &a));
-  PetscCall(gatherNatural(comm(), ids, vals, 3, mesh_->numVerticesGlobal, values, sumShares));
   PetscFunctionReturn(0);
 }
 
 template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::gatherVertexField(Vec xLocal, std::vector<double> *values) const {
-  PetscFunctionBeginUser;
-  PetscCall(gatherLocalVertexValues(xLocal, [](const VertexInfo &) { return true; }, false, values));
-  PetscFunctionReturn(0);
-}
-
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::gatherRestPositions(std::vector<double> *values) const {
-  PetscFunctionBeginUser;
-  PetscCall(gatherOwnedVertices(3, [&](size_t v, double *out) {
+void DiscretizationT<R, C>::ownedRestPositions(std::vector<double> *values) const {
+  ownedVertexRows(3, [&](size_t v, double *out) {
     for (int i = 0; i < 3; ++i) out[i] = verts_[v].rest[i];
-  }, values));
-  PetscFunctionReturn(0);
+  }, values);
 }
 
 template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::gatherCellField(const std::vector<double> &perCell, int components,
-                                                      std::vector<double> *values) const {
-  PetscFunctionBeginUser;
-  std::vector<PetscInt> ids;
-  std::vector<double> vals;
+void DiscretizationT<R, C>::ownedCellValues(const std::vector<double> &perCell, int components,
+                                            std::vector<double> *values) const {
+  values->clear();
   for (size_t c = 0; c < cells_.size(); ++c)
-    if (cells_.cells()[c].owned) {
-      ids.push_back(mesh_->naturalCell[c]);
-      vals.insert(vals.end(), perCell.begin() + c * components, perCell.begin() + (c + 1) * components);
-    }
-  PetscCall(gatherNatural(comm(), ids, vals, components, mesh_->numCellsGlobal, values));
-  PetscFunctionReturn(0);
+    if (cells_.cells()[c].owned)
+      values->insert(values->end(), perCell.begin() + c * components, perCell.begin() + (c + 1) * components);
 }
 
 template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::gatherTopology(std::vector<PetscInt> *cellsOut) const {
-  PetscFunctionBeginUser;
-  std::vector<double> conn;
-  std::vector<PetscInt> ids;
+void DiscretizationT<R, C>::ownedTopology(std::vector<PetscInt> *cellsOut) const {
+  cellsOut->clear();
   for (size_t c = 0; c < cells_.size(); ++c) {
     const Cell &cell = cells_.cells()[c];
     if (!cell.owned) continue;
-    ids.push_back(mesh_->naturalCell[c]);
-    for (int v = 0; v < NV; ++v) conn.push_back(static_cast<double>(mesh_->naturalVertex[cell.vertex[v]]));
+    for (int v = 0; v < NV; ++v) cellsOut->push_back(mesh_->naturalVertex[cell.vertex[v]]);
   }
-  std::vector<double> all;
-  PetscCall(gatherNatural(comm(), ids, conn, NV, mesh_->numCellsGlobal, &all));
-  cellsOut->resize(all.size());
-  for (size_t i = 0; i < all.size(); ++i) (*cellsOut)[i] = static_cast<PetscInt>(all[i]);
-  PetscFunctionReturn(0);
 }
 
 template <int R, int C>

@@ -34,8 +34,8 @@ struct CellQuantities {
   std::vector<double> energyDensity;  // Psi(F) per unit rest measure
 };
 
-// What io reads from a discretization: per-cell quantities of a state, reactions, and fields gathered in natural
-// (serial gmsh) order for output.
+// What io reads from a discretization: per-cell quantities of a state, reactions, and the owned vertices' and cells'
+// values with their natural (serial gmsh-order) ids for output.
 class DiagnosticsView {
  public:
   virtual ~DiagnosticsView() = default;
@@ -48,18 +48,22 @@ class DiagnosticsView {
   virtual PetscErrorCode cellStressMeasures(Vec xLocal, std::vector<kernels::StressMeasures> *out) const = 0;
   // Region of every local cell: 0 = the global material, k = the k-th -regions entry.
   virtual void cellRegions(std::vector<double> *regions) const = 0;
-  // Output in natural (serial gmsh) order, gathered on rank 0 (empty elsewhere).
-  virtual PetscErrorCode gatherVertexField(Vec xLocal, std::vector<double> *values) const = 0;   // positions (x3)
-  virtual PetscErrorCode gatherRestPositions(std::vector<double> *values) const = 0;              // (x3)
-  virtual PetscErrorCode gatherCellField(const std::vector<double> &perCell, int components,
-                                         std::vector<double> *values) const = 0;
-  virtual PetscErrorCode gatherTopology(std::vector<PetscInt> *cells) const = 0;  // natural vertex ids per cell
-  virtual PetscErrorCode cellFibers(std::vector<double> *fibers) const = 0;       // local cells, 3 comps (rest)
-  // Per vertex (x3): dE/dx on Dirichlet vertices (the force the support exerts, as -reactions sums it per set),
-  // 0 on free vertices.
-  virtual PetscErrorCode gatherVertexReactions(Vec xLocal, std::vector<double> *values) const = 0;
-  // Per vertex: k for a vertex of the k-th Dirichlet set (the order of -bc_clamp ids, then -bc_box boxes), 0 if free.
-  virtual PetscErrorCode gatherVertexMarkers(std::vector<double> *values) const = 0;
+  // Output: values of this rank's owned vertices and cells, in the order of ownedVertexIds / ownedCellIds (their
+  // natural, serial gmsh-order ids); io moves them into natural-order blocks (core::NaturalBlocks), no rank gathers.
+  virtual void ownedVertexIds(std::vector<PetscInt> *natural, std::vector<PetscInt> *local = nullptr) const = 0;
+  virtual void ownedCellIds(std::vector<PetscInt> *natural) const = 0;
+  virtual PetscErrorCode ownedVertexValues(Vec local, std::vector<double> *values) const = 0;  // x3 (z = 0 in 2D)
+  virtual void ownedRestPositions(std::vector<double> *values) const = 0;                      // x3
+  virtual void ownedCellValues(const std::vector<double> &perCell, int components,
+                               std::vector<double> *values) const = 0;  // from one value set per local cell
+  virtual void ownedTopology(std::vector<PetscInt> *cells) const = 0;   // natural vertex ids per owned cell
+  virtual PetscErrorCode cellFibers(std::vector<double> *fibers) const = 0;  // local cells, 3 comps (rest)
+  // Per owned vertex (x3): dE/dx in the held components of Dirichlet vertices (the force the support exerts, as
+  // -reactions sums it per set, every rank's share added), 0 elsewhere. Collective.
+  virtual PetscErrorCode ownedVertexReactions(Vec xLocal, std::vector<double> *values) const = 0;
+  // Per owned vertex: k for a vertex of the k-th Dirichlet set (the order of -bc_clamp ids, then -bc_box boxes), 0 if
+  // free.
+  virtual void ownedVertexMarkers(std::vector<double> *values) const = 0;
   // Reaction force on Dirichlet set `set` (index into boundary().sets): the sum over its vertices of the elastic
   // internal force dE/dx (collective). Pulling a bar by +d gives a reaction along +d.
   virtual PetscErrorCode reactionForce(Vec xLocal, size_t set, Eigen::Vector3d *force) const = 0;

@@ -5,7 +5,7 @@
 //   rest_geometry.cpp    per-cell rest data (Dm^-1, measure), degenerate/inverted cell checks, lumped mass
 //   cell_data.cpp        materials and regions, fibers, the per-cell fields the energies name (cell_fields.hpp)
 //   assembly.cpp         objective, gradient, Hessian and curvature as loops over the terms (terms/)
-//   diagnostics.cpp      per-cell quantities, stress, reactions, gathers in natural order for output
+//   diagnostics.cpp      per-cell quantities, stress, reactions, owned values with natural ids for output
 #pragma once
 
 #include "fem/discretization.hpp"
@@ -50,11 +50,12 @@ class DiscretizationT final : public Discretization, public DiagnosticsView, pub
   PetscErrorCode cellQuantities(Vec xLocal, CellQuantities *q) const override;
   PetscErrorCode barrierActiveCells(Vec xLocal, PetscInt *count) const override;
   void mollifierBandTop(std::vector<double> *top) const override;
-  PetscErrorCode gatherVertexField(Vec xLocal, std::vector<double> *values) const override;
-  PetscErrorCode gatherRestPositions(std::vector<double> *values) const override;
-  PetscErrorCode gatherCellField(const std::vector<double> &perCell, int components,
-                                 std::vector<double> *values) const override;
-  PetscErrorCode gatherTopology(std::vector<PetscInt> *cells) const override;
+  void ownedVertexIds(std::vector<PetscInt> *natural, std::vector<PetscInt> *local = nullptr) const override;
+  void ownedCellIds(std::vector<PetscInt> *natural) const override;
+  PetscErrorCode ownedVertexValues(Vec local, std::vector<double> *values) const override;
+  void ownedRestPositions(std::vector<double> *values) const override;
+  void ownedCellValues(const std::vector<double> &perCell, int components, std::vector<double> *values) const override;
+  void ownedTopology(std::vector<PetscInt> *cells) const override;
   PetscErrorCode cellFibers(std::vector<double> *fibers) const override;
   int shapeCols() const override { return C; }
   const DiagnosticsView &diagnostics() const override { return *this; }
@@ -70,8 +71,8 @@ class DiscretizationT final : public Discretization, public DiagnosticsView, pub
   PetscErrorCode reactionForce(Vec xLocal, size_t set, Eigen::Vector3d *force) const override;
   PetscErrorCode cellStressMeasures(Vec xLocal, std::vector<kernels::StressMeasures> *out) const override;
   void cellRegions(std::vector<double> *regions) const override;
-  PetscErrorCode gatherVertexReactions(Vec xLocal, std::vector<double> *values) const override;
-  PetscErrorCode gatherVertexMarkers(std::vector<double> *values) const override;
+  PetscErrorCode ownedVertexReactions(Vec xLocal, std::vector<double> *values) const override;
+  void ownedVertexMarkers(std::vector<double> *values) const override;
 
  private:
   // Setup, in this order (discretization.cpp).
@@ -88,13 +89,8 @@ class DiscretizationT final : public Discretization, public DiagnosticsView, pub
   PetscErrorCode addBendingHinges(Mesh &mesh, double stiffness);                                 // discretization
   PetscErrorCode addInertiaGravity(const Mesh &mesh);                                            // discretization
 
-  // A local vector's vertex values (padded to 3 components) gathered in natural order on rank 0, for the vertices
-  // `include` selects: each vertex's value taken once from its owner, or (sumShares) every rank's value summed.
-  PetscErrorCode gatherLocalVertexValues(Vec local, const std::function<bool(const VertexInfo &)> &include,
-                                         bool sumShares, std::vector<double> *values) const;
-  // `comps` values per owned vertex, value(local vertex, out), gathered in natural order on rank 0.
-  PetscErrorCode gatherOwnedVertices(int comps, const std::function<void(size_t, double *)> &value,
-                                     std::vector<double> *values) const;
+  // `comps` values per owned vertex, value(local vertex, out), in the order of ownedVertexIds.
+  void ownedVertexRows(int comps, const std::function<void(size_t, double *)> &value, std::vector<double> *values) const;
   MPI_Comm comm() const { return PetscObjectComm((PetscObject)mesh_->dm); }
 
   VertexTable verts_;

@@ -5,6 +5,7 @@
 #include "io/io_options.hpp"
 #include "io/files.hpp"
 #include "io/h5_attributes.hpp"
+#include "io/h5_blocks.hpp"
 
 #include <hdf5.h>
 
@@ -15,32 +16,6 @@ namespace aries::io {
 namespace {
 constexpr const char *kFormat = "aries-checkpoint-1";
 
-bool writeMatrix(hid_t f, const char *name, const std::vector<double> &v, hsize_t rows) {
-  const hsize_t dims[2] = {rows, 3};
-  hid_t space = H5Screate_simple(2, dims, nullptr);
-  hid_t d = H5Dcreate2(f, name, H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  const bool ok = d >= 0 && H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) >= 0;
-  if (d >= 0) H5Dclose(d);
-  H5Sclose(space);
-  return ok;
-}
-
-bool readMatrix(hid_t f, const char *name, hsize_t rows, std::vector<double> *v) {
-  if (H5Lexists(f, name, H5P_DEFAULT) <= 0) return false;
-  hid_t d = H5Dopen2(f, name, H5P_DEFAULT);
-  if (d < 0) return false;
-  hid_t space = H5Dget_space(d);
-  hsize_t dims[2] = {0, 0};
-  const int nd = H5Sget_simple_extent_dims(space, dims, nullptr);
-  bool ok = nd == 2 && dims[0] == rows && dims[1] == 3;
-  if (ok) {
-    v->assign(rows * 3, 0.0);
-    ok = H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v->data()) >= 0;
-  }
-  H5Sclose(space);
-  H5Dclose(d);
-  return ok;
-}
 }  // namespace
 
 PetscErrorCode readCheckpointOptions(const std::string &outputBase, CheckpointOptions *o) {
@@ -55,7 +30,8 @@ PetscErrorCode readCheckpointOptions(const std::string &outputBase, CheckpointOp
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode writeCheckpoint(const solver::Simulation &sim, const std::string &path) {
+PetscErrorCode writeCheckpoint(const solver::Simulation &sim, const core::NaturalBlocks &vertices,
+                               const std::string &path) {
   const fem::Discretization &disc = sim.discretization();
   MPI_Comm comm;
   PetscMPIInt rank;
@@ -63,39 +39,43 @@ PetscErrorCode writeCheckpoint(const solver::Simulation &sim, const std::string 
   PetscCall(PetscObjectGetComm((PetscObject)disc.dm(), &comm));
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   Vec xLocal, vLocal;
-  std::vector<double> positions, velocities;
+  std::vector<double> owned, positions, velocities;
   PetscCall(DMGetLocalVector(disc.dm(), &xLocal));
   PetscCall(DMGetLocalVector(disc.dm(), &vLocal));
   PetscCall(sim.localState(xLocal));
   PetscCall(sim.localVelocity(vLocal));
-  PetscCall(disc.diagnostics().gatherVertexField(xLocal, &positions));
-  PetscCall(disc.diagnostics().gatherVertexField(vLocal, &velocities));
+  PetscCall(disc.diagnostics().ownedVertexValues(xLocal, &owned));
+  PetscCall(vertices.toBlocks(owned, 3, &positions));
+  PetscCall(disc.diagnostics().ownedVertexValues(vLocal, &owned));
+  PetscCall(vertices.toBlocks(owned, 3, &velocities));
   PetscCall(DMRestoreLocalVector(disc.dm(), &xLocal));
   PetscCall(DMRestoreLocalVector(disc.dm(), &vLocal));
   std::string err;
-  if (rank == 0) {
-    const std::string tmp = path + ".tmp";
-    const hsize_t nv = positions.size() / 3;
-    const long long step = sim.completedSteps(), nvv = static_cast<long long>(nv),
-                    nc = static_cast<long long>(disc.mesh().numCellsGlobal);
-    const double time = sim.time(), load = disc.load();
-    bool ok = makeParentDirectory(path);
-    hid_t f = ok ? H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT) : -1;
-    ok = f >= 0 && writeMatrix(f, "/positions", positions, nv) && writeMatrix(f, "/velocities", velocities, nv) &&
-         writeScalarAttribute(f, "step", H5T_NATIVE_LLONG, step) &&
-         writeScalarAttribute(f, "time", H5T_NATIVE_DOUBLE, time) &&
-         writeScalarAttribute(f, "load", H5T_NATIVE_DOUBLE, load) &&
-         writeScalarAttribute(f, "num_vertices", H5T_NATIVE_LLONG, nvv) &&
-         writeScalarAttribute(f, "num_cells", H5T_NATIVE_LLONG, nc);
-    ok = ok && writeStringAttribute(f, "format", kFormat) && writeVersionAttributes(f);
-    if (f >= 0) ok = H5Fclose(f) >= 0 && ok;
-    if (!ok || std::rename(tmp.c_str(), path.c_str()) != 0) err = "cannot write checkpoint '" + path + "'";
-  }
+  int dirOk = rank == 0 ? makeParentDirectory(path) : 1;
+  PetscCallMPI(MPI_Bcast(&dirOk, 1, MPI_INT, 0, comm));
+  const std::string tmp = path + ".tmp";
+  const long long step = sim.completedSteps(), nv = static_cast<long long>(vertices.total()),
+                  nc = static_cast<long long>(disc.mesh().numCellsGlobal);
+  const double time = sim.time(), load = disc.load();
+  hid_t f = dirOk ? createParallelFile(comm, tmp) : -1;
+  bool ok = f >= 0 && writeBlockDataset(f, "/positions", vertices, positions, 3) &&
+            writeBlockDataset(f, "/velocities", vertices, velocities, 3) &&
+            writeScalarAttribute(f, "step", H5T_NATIVE_LLONG, step) &&
+            writeScalarAttribute(f, "time", H5T_NATIVE_DOUBLE, time) &&
+            writeScalarAttribute(f, "load", H5T_NATIVE_DOUBLE, load) &&
+            writeScalarAttribute(f, "num_vertices", H5T_NATIVE_LLONG, nv) &&
+            writeScalarAttribute(f, "num_cells", H5T_NATIVE_LLONG, nc);
+  ok = ok && writeStringAttribute(f, "format", kFormat) && writeVersionAttributes(f);
+  if (f >= 0) ok = H5Fclose(f) >= 0 && ok;
+  int good = ok, allGood = 0;
+  PetscCallMPI(MPI_Allreduce(&good, &allGood, 1, MPI_INT, MPI_MIN, comm));
+  if (rank == 0 && (!allGood || std::rename(tmp.c_str(), path.c_str()) != 0)) err = "cannot write checkpoint '" + path + "'";
   PetscCall(core::collectiveCheck(comm, !err.empty(), err));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode readCheckpoint(const fem::Mesh &mesh, const std::string &path, CheckpointState *st) {
+PetscErrorCode readCheckpoint(const fem::Discretization &disc, const std::string &path, CheckpointState *st) {
+  const fem::Mesh &mesh = disc.mesh();
   MPI_Comm comm;
   PetscMPIInt rank;
   PetscFunctionBeginUser;
@@ -104,7 +84,7 @@ PetscErrorCode readCheckpoint(const fem::Mesh &mesh, const std::string &path, Ch
   std::string err;
   long long step = 0, nv = 0, nc = 0;
   double scalars[2] = {0, 0};
-  if (rank == 0) {
+  if (rank == 0) {  // the attributes first: a file that is not a checkpoint of this mesh is one clear error
     H5E_auto2_t func;
     void *data;
     H5Eget_auto2(H5E_DEFAULT, &func, &data);
@@ -134,8 +114,6 @@ PetscErrorCode readCheckpoint(const fem::Mesh &mesh, const std::string &path, Ch
         err = "checkpoint '" + path + "' was written for a mesh with " + std::to_string(nv) + " vertices and " +
               std::to_string(nc) + " cells, but '" + mesh.filename + "' has " + std::to_string(mesh.numVerticesGlobal) +
               " and " + std::to_string(mesh.numCellsGlobal);
-      } else if (!readMatrix(f, "/positions", nv, &st->positions) || !readMatrix(f, "/velocities", nv, &st->velocities)) {
-        err = "checkpoint '" + path + "' has missing or malformed /positions or /velocities";
       }
       H5Fclose(f);
     }
@@ -144,11 +122,33 @@ PetscErrorCode readCheckpoint(const fem::Mesh &mesh, const std::string &path, Ch
   PetscCall(core::collectiveCheck(comm, !err.empty(), err));
   PetscCallMPI(MPI_Bcast(&step, 1, MPI_LONG_LONG, 0, comm));
   PetscCallMPI(MPI_Bcast(scalars, 2, MPI_DOUBLE, 0, comm));
-  const size_t n = 3 * static_cast<size_t>(mesh.numVerticesGlobal);
-  st->positions.resize(n);
-  st->velocities.resize(n);
-  PetscCallMPI(MPI_Bcast(st->positions.data(), static_cast<int>(n), MPI_DOUBLE, 0, comm));
-  PetscCallMPI(MPI_Bcast(st->velocities.data(), static_cast<int>(n), MPI_DOUBLE, 0, comm));
+  // Every rank reads its block of rows, then the rows move to the ranks that own those vertices.
+  std::vector<PetscInt> natural, local;
+  disc.diagnostics().ownedVertexIds(&natural, &local);
+  core::NaturalBlocks vertices;
+  PetscCall(vertices.setup(comm, mesh.numVerticesGlobal, natural));
+  std::vector<double> positions, velocities;
+  H5E_auto2_t func;
+  void *data;
+  H5Eget_auto2(H5E_DEFAULT, &func, &data);
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  hid_t f = openParallelFile(comm, path);
+  bool ok = f >= 0 && readBlockDataset(f, "/positions", vertices, 3, &positions) &&
+            readBlockDataset(f, "/velocities", vertices, 3, &velocities);
+  if (f >= 0) H5Fclose(f);
+  H5Eset_auto2(H5E_DEFAULT, func, data);
+  PetscCall(core::collectiveCheck(comm, !ok, "checkpoint '" + path + "' has missing or malformed /positions or /velocities"));
+  std::vector<double> ownedX, ownedV;
+  PetscCall(vertices.fromBlocks(positions, 3, &ownedX));
+  PetscCall(vertices.fromBlocks(velocities, 3, &ownedV));
+  const size_t numLocal = static_cast<size_t>(mesh.vEnd - mesh.vStart);
+  st->positions.assign(3 * numLocal, 0.0);
+  st->velocities.assign(3 * numLocal, 0.0);
+  for (size_t k = 0; k < local.size(); ++k)
+    for (int i = 0; i < 3; ++i) {
+      st->positions[3 * local[k] + i] = ownedX[3 * k + i];
+      st->velocities[3 * local[k] + i] = ownedV[3 * k + i];
+    }
   st->step = static_cast<PetscInt>(step);
   st->time = scalars[0];
   st->load = scalars[1];

@@ -1,5 +1,6 @@
 // Checkpoint / restart (-checkpoint_every K, -checkpoint FILE, -restart FILE).
-// A checkpoint is one HDF5 file with the full state in natural (gmsh) vertex order: /positions and /velocities
+// A checkpoint is one HDF5 file (written and read in parallel, io/h5_blocks.hpp) with the state in natural (gmsh) vertex
+// order: /positions and /velocities
 // (vertices x 3), and the attributes step, time, load (parameter of the prescribed motion), num_vertices, num_cells,
 // format. It is written under a temporary name and renamed when complete, so a run killed at any moment leaves the
 // previous checkpoint intact. Natural ordering makes a checkpoint restartable on any number of ranks.
@@ -21,14 +22,17 @@ struct CheckpointOptions {
 PetscErrorCode readCheckpointOptions(const std::string &outputBase, CheckpointOptions *opts);
 
 struct CheckpointState {
-  std::vector<double> positions, velocities;  // natural order, x3
+  std::vector<double> positions, velocities;  // per local vertex (v - vStart), x3; filled on the owned vertices
   PetscInt step = 0;
   double time = 0.0, load = 0.0;
 };
 
-// Collective: gathers the state on rank 0 and writes it atomically.
-PetscErrorCode writeCheckpoint(const solver::Simulation &sim, const std::string &path);
-// Collective: rank 0 reads and validates against the mesh, every rank receives the state.
-PetscErrorCode readCheckpoint(const fem::Mesh &mesh, const std::string &path, CheckpointState *state);
+// Collective: every rank writes its block of rows (`vertices`: the owned vertices' natural ids) into one file, written
+// atomically.
+PetscErrorCode writeCheckpoint(const solver::Simulation &sim, const core::NaturalBlocks &vertices,
+                               const std::string &path);
+// Collective: rank 0 validates the attributes against the mesh, every rank reads a block of rows and receives its
+// owned vertices' state.
+PetscErrorCode readCheckpoint(const fem::Discretization &disc, const std::string &path, CheckpointState *state);
 
 }  // namespace aries::io

@@ -123,12 +123,20 @@ PetscErrorCode RunOutput::setup(const OutputOptions &opts, const CheckpointOptio
                                    "cannot open Newton history file '" + opts.newtonHistory +
                                        "' for writing (-newton_history)"));
   }
+  if (!opts.output.empty() || checkpoint.every > 0) {  // the natural-order blocks each rank writes
+    std::vector<PetscInt> ids;
+    disc.diagnostics().ownedVertexIds(&ids);
+    PetscCall(vertexBlocks_.setup(comm_, disc.mesh().numVerticesGlobal, ids));
+    disc.diagnostics().ownedCellIds(&ids);
+    PetscCall(cellBlocks_.setup(comm_, disc.mesh().numCellsGlobal, ids));
+  }
   if (!opts.output.empty()) {
     std::vector<PetscInt> cells;
     std::vector<double> rest;
-    PetscCall(disc.diagnostics().gatherTopology(&cells));
-    PetscCall(disc.diagnostics().gatherRestPositions(&rest));
-    PetscCall(writer_.open(comm_, opts.output, cells, disc.verticesPerCell(), rest, resumeAfterStep));
+    disc.diagnostics().ownedTopology(&cells);
+    disc.diagnostics().ownedRestPositions(&rest);
+    PetscCall(writer_.open(comm_, opts.output, vertexBlocks_, cellBlocks_, cells, disc.verticesPerCell(), rest,
+                           resumeAfterStep));
   }
   PetscCall(PetscLogStageGetId("output", &outputStage_));
   if (outputStage_ < 0) PetscCall(PetscLogStageRegister("output", &outputStage_));
@@ -144,7 +152,7 @@ PetscErrorCode RunOutput::writeState(const solver::Simulation &sim, PetscInt ste
   PetscCall(DMGetLocalVector(disc.dm(), &xLocal));
   PetscCall(sim.localState(xLocal));
   std::vector<double> positions;
-  PetscCall(disc.diagnostics().gatherVertexField(xLocal, &positions));
+  PetscCall(disc.diagnostics().ownedVertexValues(xLocal, &positions));
   std::vector<const OutputField *> selected;
   for (const auto &f : outputFields())
     if (std::find(opts_.fields.begin(), opts_.fields.end(), f.name) != opts_.fields.end()) selected.push_back(&f);
@@ -191,15 +199,15 @@ PetscErrorCode RunOutput::writeState(const solver::Simulation &sim, PetscInt ste
         Vec vLocal;
         PetscCall(DMGetLocalVector(disc.dm(), &vLocal));
         PetscCall(sim.localVelocity(vLocal));
-        PetscCall(disc.diagnostics().gatherVertexField(vLocal, &out.values));
+        PetscCall(disc.diagnostics().ownedVertexValues(vLocal, &out.values));
         PetscCall(DMRestoreLocalVector(disc.dm(), &vLocal));
         break;
       }
-      case FieldSource::Reactions: PetscCall(disc.diagnostics().gatherVertexReactions(xLocal, &out.values)); break;
-      case FieldSource::Markers: PetscCall(disc.diagnostics().gatherVertexMarkers(&out.values)); break;
+      case FieldSource::Reactions: PetscCall(disc.diagnostics().ownedVertexReactions(xLocal, &out.values)); break;
+      case FieldSource::Markers: disc.diagnostics().ownedVertexMarkers(&out.values); break;
     }
     if (f->perCell()) {
-      PetscCall(disc.diagnostics().gatherCellField(local, f->components, &out.values));
+      disc.diagnostics().ownedCellValues(local, f->components, &out.values);
       cellFields.push_back(std::move(out));
     } else {
       vertexFields.push_back(std::move(out));
@@ -306,7 +314,7 @@ PetscErrorCode RunOutput::record(const solver::Simulation &sim, const solver::St
   if (rep.step % opts_.outputEvery == 0 || rep.stopping) PetscCall(writeState(sim, rep.step, rep.time));
   if (checkpoint_.every > 0 && (rep.step % checkpoint_.every == 0 || rep.stopping)) {
     PetscCall(PetscLogStagePush(outputStage_));
-    PetscCall(writeCheckpoint(sim, checkpoint_.path));
+    PetscCall(writeCheckpoint(sim, vertexBlocks_, checkpoint_.path));
     PetscCall(PetscLogStagePop());
   }
   PetscFunctionReturn(0);

@@ -53,6 +53,7 @@ class RunOutput final : public solver::StepObserver {
   OutputOptions opts_;
   CheckpointOptions checkpoint_;
   MPI_Comm comm_ = MPI_COMM_NULL;
+  core::NaturalBlocks vertexBlocks_, cellBlocks_;  // each rank's share of the files' rows (output and checkpoints)
   XdmfWriter writer_;
   StatsWriter stats_;
   std::FILE *reactions_ = nullptr;

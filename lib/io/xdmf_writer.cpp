@@ -3,6 +3,7 @@
 #include "core/errors.hpp"
 #include "io/files.hpp"
 #include "io/h5_attributes.hpp"
+#include "io/h5_blocks.hpp"
 
 #include <hdf5.h>
 
@@ -15,36 +16,17 @@ namespace aries::io {
 
 namespace {
 
-bool writeDataset(hid_t file, const char *path, const double *data, hsize_t rows, hsize_t cols) {
-  const hsize_t dims[2] = {rows, cols};
-  hid_t space = H5Screate_simple(cols > 1 ? 2 : 1, dims, nullptr);
-  hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
-  H5Pset_create_intermediate_group(lcpl, 1);
-  hid_t dset = H5Dcreate2(file, path, H5T_NATIVE_DOUBLE, space, lcpl, H5P_DEFAULT, H5P_DEFAULT);
-  bool ok = dset >= 0 && H5Dwrite(dset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) >= 0;
-  if (dset >= 0) H5Dclose(dset);
-  H5Pclose(lcpl);
-  H5Sclose(space);
-  return ok;
-}
-
-bool writeIntDataset(hid_t file, const char *path, const std::vector<PetscInt> &data, hsize_t rows, hsize_t cols) {
-  std::vector<long long> v(data.begin(), data.end());
-  const hsize_t dims[2] = {rows, cols};
-  hid_t space = H5Screate_simple(2, dims, nullptr);
-  hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
-  H5Pset_create_intermediate_group(lcpl, 1);
-  hid_t dset = H5Dcreate2(file, path, H5T_NATIVE_LLONG, space, lcpl, H5P_DEFAULT, H5P_DEFAULT);
-  bool ok = dset >= 0 && H5Dwrite(dset, H5T_NATIVE_LLONG, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) >= 0;
-  if (dset >= 0) H5Dclose(dset);
-  H5Pclose(lcpl);
-  H5Sclose(space);
-  return ok;
+// The step file of step k, relative to the output directory.
+std::string stepFileName(const std::string &name, PetscInt step) {
+  std::ostringstream f;
+  f << name << ".steps/" << name << "_" << std::setw(6) << std::setfill('0') << step << ".h5";
+  return f.str();
 }
 
 }  // namespace
 
-PetscErrorCode XdmfWriter::open(MPI_Comm comm, const std::string &base, const std::vector<PetscInt> &cells,
+PetscErrorCode XdmfWriter::open(MPI_Comm comm, const std::string &base, const core::NaturalBlocks &vertices,
+                                const core::NaturalBlocks &cells, const std::vector<PetscInt> &topology,
                                 int verticesPerCell, const std::vector<double> &rest, PetscInt resumeAfterStep) {
   PetscMPIInt rank;
   PetscFunctionBeginUser;
@@ -57,37 +39,40 @@ PetscErrorCode XdmfWriter::open(MPI_Comm comm, const std::string &base, const st
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -output '%s' needs a file name: -output DIR/NAME", base.c_str());
   meshFile_ = name_ + ".h5";
   xmf_ = base + ".xmf";
+  vertices_ = &vertices;
+  cells_ = &cells;
+  numVertices_ = vertices.total();
+  numCells_ = cells.total();
   verticesPerCell_ = verticesPerCell;
+  std::vector<double> topologyOwned(topology.begin(), topology.end()), topologyBlock;  // ids exact as doubles
+  PetscCall(cells.toBlocks(topologyOwned, verticesPerCell, &topologyBlock));
+  PetscCall(vertices.toBlocks(rest, 3, &restBlock_));
+  const std::vector<long long> topologyIds(topologyBlock.begin(), topologyBlock.end());
   std::string err;
+  if (rank == 0 && !makeDirectories(dir_ + "/" + name_ + ".steps"))
+    err = "cannot create output directory '" + dir_ + "/" + name_ + ".steps' (-output)";
+  PetscCall(core::collectiveCheck(comm, !err.empty(), err));
+  const std::string tmp = base + ".h5.tmp";
+  hid_t f = createParallelFile(comm, tmp);
+  bool ok = f >= 0 && writeBlockIntDataset(f, "/mesh/topology", cells, topologyIds, verticesPerCell) &&
+            writeBlockDataset(f, "/mesh/rest", vertices, restBlock_, 3) && writeVersionAttributes(f);
+  if (f >= 0) ok = H5Fclose(f) >= 0 && ok;
+  int good = ok, allGood = 0;
+  PetscCallMPI(MPI_Allreduce(&good, &allGood, 1, MPI_INT, MPI_MIN, comm));
   if (rank == 0) {
-    numCells_ = static_cast<PetscInt>(cells.size() / verticesPerCell);
-    numVertices_ = static_cast<PetscInt>(rest.size() / 3);
-    rest_ = rest;
-    if (!makeDirectories(dir_ + "/" + name_ + ".steps")) {
-      err = "cannot create output directory '" + dir_ + "/" + name_ + ".steps' (-output)";
-    } else {
-      const std::string tmp = base + ".h5.tmp";
-      hid_t f = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-      bool ok = f >= 0 && writeIntDataset(f, "/mesh/topology", cells, numCells_, verticesPerCell) &&
-                writeDataset(f, "/mesh/rest", rest.data(), numVertices_, 3) && writeVersionAttributes(f);
-      if (f >= 0) ok = H5Fclose(f) >= 0 && ok;
-      if (!ok || std::rename(tmp.c_str(), (base + ".h5").c_str()) != 0)
-        err = "cannot write '" + base + ".h5' (-output)";
-    }
+    if (!allGood || std::rename(tmp.c_str(), (base + ".h5").c_str()) != 0) err = "cannot write '" + base + ".h5' (-output)";
     // Restart: keep the complete step files of the steps before the restart point in the index.
     for (PetscInt k = 0; err.empty() && k <= resumeAfterStep; ++k) {
-      std::ostringstream fname;
-      fname << name_ << ".steps/" << name_ << "_" << std::setw(6) << std::setfill('0') << k << ".h5";
-      const std::string p = dir_ + "/" + fname.str();
+      const std::string fname = stepFileName(name_, k), p = dir_ + "/" + fname;
       std::FILE *probe = std::fopen(p.c_str(), "rb");
       if (!probe) continue;
       std::fclose(probe);
       double time = 0.0;
-      hid_t f = H5Fopen(p.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-      if (f >= 0) {
-        readScalarAttribute(f, "time", H5T_NATIVE_DOUBLE, &time);
-        H5Fclose(f);
-        steps_.push_back({k, time, fname.str()});
+      hid_t sf = H5Fopen(p.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+      if (sf >= 0) {
+        readScalarAttribute(sf, "time", H5T_NATIVE_DOUBLE, &time);
+        H5Fclose(sf);
+        steps_.push_back({k, time, fname});
       }
     }
   }
@@ -101,32 +86,36 @@ PetscErrorCode XdmfWriter::writeStep(PetscInt step, double time, const std::vect
   PetscMPIInt rank;
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm_, &rank));
+  const std::string fname = stepFileName(name_, step), path = dir_ + "/" + fname, tmp = path + ".tmp";
+  std::vector<double> block, disp;
+  PetscCall(vertices_->toBlocks(positions, 3, &block));
+  disp.resize(block.size());
+  for (size_t i = 0; i < block.size(); ++i) disp[i] = block[i] - restBlock_[i];
+  hid_t f = createParallelFile(comm_, tmp);
+  bool ok = f >= 0 && writeBlockDataset(f, "/positions", *vertices_, block, 3) &&
+            writeBlockDataset(f, "/displacement", *vertices_, disp, 3) && writeVersionAttributes(f);
+  // the step's time, for restarts (the index is rebuilt from the step files)
+  ok = ok && writeScalarAttribute(f, "time", H5T_NATIVE_DOUBLE, time);
+  cellFieldLayout_.clear();
+  for (const auto &cf : cellFields) {
+    PetscCall(cells_->toBlocks(cf.values, cf.components, &block));
+    ok = ok && writeBlockDataset(f, "/cell/" + cf.name, *cells_, block, cf.components);
+    cellFieldLayout_.emplace_back(cf.name, cf.components);
+  }
+  vertexFieldLayout_.clear();
+  for (const auto &vf : vertexFields) {
+    PetscCall(vertices_->toBlocks(vf.values, vf.components, &block));
+    ok = ok && writeBlockDataset(f, "/vertex/" + vf.name, *vertices_, block, vf.components);
+    vertexFieldLayout_.emplace_back(vf.name, vf.components);
+  }
+  if (f >= 0) ok = H5Fclose(f) >= 0 && ok;
+  int good = ok, allGood = 0;
+  PetscCallMPI(MPI_Allreduce(&good, &allGood, 1, MPI_INT, MPI_MIN, comm_));
   std::string err;
   if (rank == 0) {
-    std::ostringstream fname;
-    fname << name_ << ".steps/" << name_ << "_" << std::setw(6) << std::setfill('0') << step << ".h5";
-    const std::string path = dir_ + "/" + fname.str(), tmp = path + ".tmp";
-    std::vector<double> disp(positions.size());
-    for (size_t i = 0; i < positions.size(); ++i) disp[i] = positions[i] - rest_[i];
-    hid_t f = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-    bool ok = f >= 0 && writeDataset(f, "/positions", positions.data(), numVertices_, 3) &&
-              writeDataset(f, "/displacement", disp.data(), numVertices_, 3) && writeVersionAttributes(f);
-    // the step's time, for restarts (the index is rebuilt from the step files)
-    ok = ok && writeScalarAttribute(f, "time", H5T_NATIVE_DOUBLE, time);
-    cellFieldLayout_.clear();
-    for (const auto &cf : cellFields) {
-      ok = ok && writeDataset(f, ("/cell/" + cf.name).c_str(), cf.values.data(), numCells_, cf.components);
-      cellFieldLayout_.emplace_back(cf.name, cf.components);
-    }
-    vertexFieldLayout_.clear();
-    for (const auto &vf : vertexFields) {
-      ok = ok && writeDataset(f, ("/vertex/" + vf.name).c_str(), vf.values.data(), numVertices_, vf.components);
-      vertexFieldLayout_.emplace_back(vf.name, vf.components);
-    }
-    if (f >= 0) ok = H5Fclose(f) >= 0 && ok;
-    if (!ok || std::rename(tmp.c_str(), path.c_str()) != 0) err = "cannot write output step file '" + path + "'";
+    if (!allGood || std::rename(tmp.c_str(), path.c_str()) != 0) err = "cannot write output step file '" + path + "'";
     if (err.empty()) {
-      steps_.push_back({step, time, fname.str()});
+      steps_.push_back({step, time, fname});
       PetscCall(writeXmf());
     }
   }

@@ -4,9 +4,12 @@
 //                               and /cell/<f> (cell fields); 9 components are a row-major 3x3 tensor
 //   DIR/NAME.xmf                temporal collection over the steps written so far
 // Every file is written under a temporary name and renamed when complete, and the .xmf is rewritten after each
-// step, so a run killed at any moment leaves the last complete step readable. Data are gathered on rank 0 in
-// natural order (identical files for any number of ranks).
+// step, so a run killed at any moment leaves the last complete step readable. Datasets are in natural (gmsh) order and
+// written collectively, each rank its block of rows (io/h5_blocks.hpp): identical files for any number of ranks, and no
+// rank holds more than its block of any of them.
 #pragma once
+
+#include "core/parallel.hpp"
 
 #include <petscsys.h>
 
@@ -18,16 +21,19 @@ namespace aries::io {
 struct CellField {  // a cell or vertex field
   std::string name;
   int components;              // 1, 3 or 9 (XDMF Scalar, Vector, Tensor)
-  std::vector<double> values;  // natural order, rank 0
+  std::vector<double> values;  // this rank's owned cells or vertices, in the order of the writer's layouts
 };
 
 class XdmfWriter {
  public:
-  // Collective; `cells` (natural vertex ids, `verticesPerCell` each) and `rest` (x3) are only read on rank 0.
-  // With resumeAfterStep >= 0 (restart) the existing step files up to that step stay in the index.
-  PetscErrorCode open(MPI_Comm comm, const std::string &base, const std::vector<PetscInt> &cells, int verticesPerCell,
+  // Collective. `vertices` and `cells` (kept by reference, they must outlive the writer) say which natural ids this
+  // rank's values are for; `cells` holds the natural vertex ids of this rank's owned cells (`verticesPerCell` each)
+  // and `rest` its owned vertices' rest positions (x3). With resumeAfterStep >= 0 (restart) the existing step files up
+  // to that step stay in the index.
+  PetscErrorCode open(MPI_Comm comm, const std::string &base, const core::NaturalBlocks &vertices,
+                      const core::NaturalBlocks &cells, const std::vector<PetscInt> &topology, int verticesPerCell,
                       const std::vector<double> &rest, PetscInt resumeAfterStep = -1);
-  // Rank 0 writes; collective only for the error check.
+  // Collective: `positions` (x3) and the fields' values on this rank's owned vertices and cells.
   PetscErrorCode writeStep(PetscInt step, double time, const std::vector<double> &positions,
                            const std::vector<CellField> &cellFields, const std::vector<CellField> &vertexFields = {});
   const std::string &xmfPath() const { return xmf_; }
@@ -43,9 +49,10 @@ class XdmfWriter {
 
   MPI_Comm comm_ = MPI_COMM_NULL;
   std::string base_, dir_, name_, meshFile_, xmf_;
+  const core::NaturalBlocks *vertices_ = nullptr, *cells_ = nullptr;
   PetscInt numCells_ = 0, numVertices_ = 0;
   int verticesPerCell_ = 4;
-  std::vector<double> rest_;
+  std::vector<double> restBlock_;  // this rank's block of the rest positions (the displacement's reference)
   std::vector<StepEntry> steps_;
   std::vector<std::pair<std::string, int>> cellFieldLayout_, vertexFieldLayout_;
 };

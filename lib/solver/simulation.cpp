@@ -151,11 +151,11 @@ PetscErrorCode Simulation::resume(const std::vector<double> &positions, const st
   PetscCall(VecGetOwnershipRange(x_, &lo, nullptr));
   PetscCall(VecGetArray(x_, &x));
   PetscCall(VecGetArray(v_, &v));
-  disc_->kinematics().forEachOwnedFreeVertex([&](PetscInt, PetscInt natural, const PetscInt *rows, const Eigen::Vector3d &) {
+  disc_->kinematics().forEachOwnedFreeVertex([&](PetscInt local, PetscInt, const PetscInt *rows, const Eigen::Vector3d &) {
     for (int i = 0; i < R; ++i)
       if (rows[i] >= 0) {
-        x[rows[i] - lo] = positions[3 * static_cast<size_t>(natural) + i];
-        v[rows[i] - lo] = velocities[3 * static_cast<size_t>(natural) + i];
+        x[rows[i] - lo] = positions[3 * static_cast<size_t>(local) + i];
+        v[rows[i] - lo] = velocities[3 * static_cast<size_t>(local) + i];
       }
   });
   PetscCall(VecRestoreArray(x_, &x));

@@ -87,9 +87,9 @@ class Simulation {
   PetscInt completedSteps() const { return completedSteps_; }
   double time() const { return time_; }
 
-  // Continue from a saved state (checkpoint): positions and velocities of the free vertices by natural vertex id
-  // (3 values each, missing or Dirichlet vertices ignored), the last completed step, its time and the load
-  // parameter. Collective; the arrays are read on every rank.
+  // Continue from a saved state (checkpoint): positions and velocities of this rank's vertices by local vertex index
+  // (v - vStart, 3 values each; only the owned free components are read), the last completed step, its time and the
+  // load parameter. Collective.
   PetscErrorCode resume(const std::vector<double> &positions, const std::vector<double> &velocities,
                         PetscInt completedStep, double time, double load);
 

@@ -1,0 +1,110 @@
+#include "io/h5_blocks.hpp"
+
+namespace aries::io {
+
+namespace {
+
+hid_t mpioAccess(MPI_Comm comm) {
+  hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+  H5Pset_fapl_mpio(fapl, comm, MPI_INFO_NULL);
+  return fapl;
+}
+
+// The file and memory dataspaces of this rank's block of a total x comps dataset.
+struct BlockSpaces {
+  hid_t file = -1, memory = -1;
+  BlockSpaces(hid_t fileSpace, const core::NaturalBlocks &layout, int comps) : file(H5Scopy(fileSpace)) {
+    const hsize_t start[2] = {static_cast<hsize_t>(layout.blockStart()), 0};
+    const hsize_t count[2] = {static_cast<hsize_t>(layout.blockSize()), static_cast<hsize_t>(comps)};
+    const int rank = comps > 1 ? 2 : 1;
+    memory = H5Screate_simple(rank, count, nullptr);
+    if (layout.blockSize() == 0) {
+      H5Sselect_none(file);
+      H5Sselect_none(memory);
+    } else {
+      H5Sselect_hyperslab(file, H5S_SELECT_SET, start, nullptr, count, nullptr);
+    }
+  }
+  ~BlockSpaces() {
+    H5Sclose(memory);
+    H5Sclose(file);
+  }
+};
+
+hid_t collectiveTransfer() {
+  hid_t dxpl = H5Pcreate(H5P_DATASET_XFER);
+  H5Pset_dxpl_mpio(dxpl, H5FD_MPIO_COLLECTIVE);
+  return dxpl;
+}
+
+bool writeBlock(hid_t file, const std::string &name, const core::NaturalBlocks &layout, const void *block, int comps,
+                hid_t memType, hid_t fileType) {
+  const hsize_t dims[2] = {static_cast<hsize_t>(layout.total()), static_cast<hsize_t>(comps)};
+  hid_t space = H5Screate_simple(comps > 1 ? 2 : 1, dims, nullptr);
+  hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
+  H5Pset_create_intermediate_group(lcpl, 1);
+  hid_t dset = H5Dcreate2(file, name.c_str(), fileType, space, lcpl, H5P_DEFAULT, H5P_DEFAULT);
+  bool ok = dset >= 0;
+  if (ok) {
+    BlockSpaces spaces(space, layout, comps);
+    hid_t dxpl = collectiveTransfer();
+    ok = H5Dwrite(dset, memType, spaces.memory, spaces.file, dxpl, block) >= 0;
+    H5Pclose(dxpl);
+    H5Dclose(dset);
+  }
+  H5Pclose(lcpl);
+  H5Sclose(space);
+  return ok;
+}
+
+}  // namespace
+
+hid_t createParallelFile(MPI_Comm comm, const std::string &path) {
+  hid_t fapl = mpioAccess(comm);
+  hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
+  H5Pclose(fapl);
+  return f;
+}
+
+hid_t openParallelFile(MPI_Comm comm, const std::string &path) {
+  hid_t fapl = mpioAccess(comm);
+  hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl);
+  H5Pclose(fapl);
+  return f;
+}
+
+bool writeBlockDataset(hid_t file, const std::string &name, const core::NaturalBlocks &layout,
+                       const std::vector<double> &block, int comps) {
+  return block.size() == static_cast<size_t>(layout.blockSize()) * comps &&
+         writeBlock(file, name, layout, block.data(), comps, H5T_NATIVE_DOUBLE, H5T_NATIVE_DOUBLE);
+}
+
+bool writeBlockIntDataset(hid_t file, const std::string &name, const core::NaturalBlocks &layout,
+                          const std::vector<long long> &block, int comps) {
+  return block.size() == static_cast<size_t>(layout.blockSize()) * comps &&
+         writeBlock(file, name, layout, block.data(), comps, H5T_NATIVE_LLONG, H5T_NATIVE_LLONG);
+}
+
+bool readBlockDataset(hid_t file, const std::string &name, const core::NaturalBlocks &layout, int comps,
+                      std::vector<double> *block) {
+  if (H5Lexists(file, name.c_str(), H5P_DEFAULT) <= 0) return false;
+  hid_t dset = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
+  if (dset < 0) return false;
+  hid_t space = H5Dget_space(dset);
+  hsize_t dims[2] = {0, 0};
+  const int nd = H5Sget_simple_extent_dims(space, dims, nullptr);
+  bool ok = nd == (comps > 1 ? 2 : 1) && dims[0] == static_cast<hsize_t>(layout.total()) &&
+            (comps == 1 || dims[1] == static_cast<hsize_t>(comps));
+  if (ok) {
+    block->assign(static_cast<size_t>(layout.blockSize()) * comps, 0.0);
+    BlockSpaces spaces(space, layout, comps);
+    hid_t dxpl = collectiveTransfer();
+    ok = H5Dread(dset, H5T_NATIVE_DOUBLE, spaces.memory, spaces.file, dxpl, block->data()) >= 0;
+    H5Pclose(dxpl);
+  }
+  H5Sclose(space);
+  H5Dclose(dset);
+  return ok;
+}
+
+}  // namespace aries::io
