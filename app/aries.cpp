@@ -3,6 +3,7 @@
 // Every option is documented in docs/options.md. Exit codes: 0 success, 1 bad input (one error line on stderr),
 // 2 internal error, 3 the simulation failed a step and stopped (-on_failure stop).
 #include "fem/discretization.hpp"
+#include "fem/fem_options.hpp"
 #include "core/errors.hpp"
 #include "core/parallel.hpp"
 #include "core/options.hpp"
@@ -131,6 +132,14 @@ PetscErrorCode run(int *exitCode) {
     if (!(help && haveMesh)) PetscFunctionReturn(0);
   }
   PetscCall(core::get(io::opt::strict, &strict));
+  std::string convertTo;
+  PetscBool convert = PETSC_FALSE;
+  PetscCall(core::get(fem::opt::meshConvert, &convertTo, &convert));
+  if (convert) {  // a one-time conversion, not a run
+    PetscCall(fem::convertMesh(comm, convertTo));
+    PetscCall(checkUnusedOptions(comm, strict, false));
+    PetscFunctionReturn(0);
+  }
   const double setupStart = MPI_Wtime();
   PetscCall(PetscLogStageRegister("setup", &setupStage));
   PetscCall(PetscLogStagePush(setupStage));

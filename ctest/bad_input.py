@@ -72,6 +72,25 @@ def good_mesh():
     return write("good.msh", TET_MSH)
 
 
+def plain_hdf5(name):
+    """An HDF5 file that is not a converted mesh."""
+    import h5py
+    path = os.path.join(ARGS.work, name)
+    with h5py.File(path, "w") as f:
+        f["data"] = [1.0, 2.0]
+    return path
+
+
+def converted_mesh():
+    """good.msh converted by the aries under test (-mesh_convert), on one rank."""
+    out = os.path.join(ARGS.work, "good.h5")
+    p = subprocess.run(aries_cmd(ARGS.aries, 1, ["-dm_plex_filename", good_mesh(), "-mesh_convert", out]),
+                       capture_output=True, text=True, env=mpi_env(), cwd=ARGS.work)
+    if p.returncode != 0:
+        fail("converting good.msh failed: " + (p.stdout + p.stderr)[-2000:])
+    return out
+
+
 def fibers(n, vectors):
     return "# test fibers\n%d\n%s\n" % (n, "\n".join(vectors))
 
@@ -178,6 +197,18 @@ def case_defs():
                                  r"option -output_fields: 'stress' is not a field \(alpha\|.*\|marker, or all\)")
     d["output_velocity_static"] = (lambda: ["-dm_plex_filename", good_mesh(), "-output_fields", "velocity"],
                                    r"option -output_fields: 'velocity' needs -integrator beuler")
+    d["h5_mesh_missing"] = (lambda: ["-dm_plex_filename", os.path.join(w, "nope.h5")],
+                            r"cannot open mesh '.*nope\.h5' \(-dm_plex_filename\)")
+    d["h5_mesh_not_hdf5"] = (lambda: ["-dm_plex_filename", write("junk.h5", "hello world\n")],
+                             r"mesh '.*junk\.h5' \(-dm_plex_filename\) is not an HDF5 file")
+    d["h5_mesh_not_converted"] = (lambda: ["-dm_plex_filename", plain_hdf5("plain.h5")],
+                                  r"plain\.h5' \(-dm_plex_filename\) is an HDF5 file but not a mesh converted by aries "
+                                  r"\(make one with aries -dm_plex_filename MESH\.msh -mesh_convert")
+    d["h5_mesh_metis"] = (lambda: ["-dm_plex_filename", converted_mesh(), "-partitioner", "metis"],
+                          r"option -partitioner metis: METIS partitions the whole mesh on rank 0, but '.*good\.h5' is "
+                          r"read in parallel")
+    d["mesh_convert_suffix"] = (lambda: ["-dm_plex_filename", good_mesh(), "-mesh_convert", os.path.join(w, "out.msh")],
+                                r"option -mesh_convert '.*out\.msh': the converted mesh's name must end in \.h5")
     return d
 
 

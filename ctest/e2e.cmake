@@ -57,6 +57,8 @@ aries_e2e(ranks_agree ranks_agree 1)
 set_tests_properties(e2e.ranks_agree.np1 PROPERTIES PROCESSORS 2)
 aries_e2e(active_ranks_agree active_ranks_agree 1)
 aries_e2e(inflate_ranks_agree inflate_ranks_agree 1)
+aries_e2e(parallel_io parallel_io 1)
+set_tests_properties(e2e.parallel_io.np1 PROPERTIES PROCESSORS 2)
 set_tests_properties(e2e.active_ranks_agree.np1 PROPERTIES PROCESSORS 2)
 
 # Every shipped options file runs -options_left/-strict clean (one rank; the bunny scene also on two).

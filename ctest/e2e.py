@@ -20,7 +20,7 @@ import sys
 import h5py
 import numpy as np
 
-from harness import aries_cmd, csv_rows, fail, mpi_env, step_file, step_files, test_mesh
+from harness import aries_cmd, csv_rows, fail, mpi_env, step_file, step_files, step_positions, test_mesh
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "scripts"))
 from shape_error import shape_error as distance_to_rest  # noqa: E402
@@ -1543,7 +1543,92 @@ def case_output_fields():
         fail("velocity after 3 steps of free fall off by %.3e" % err)
 
 
+def h5_mesh(name):
+    """The HDF5 copy of a test mesh (meshes/generate.sh h5, converted by the aries under test)."""
+    env = dict(os.environ, ARIES_BIN=ARGS.aries)
+    p = subprocess.run([os.path.join(ARGS.root, "meshes", "generate.sh"), "h5", name, "test"], capture_output=True,
+                       text=True, env=env)
+    if p.returncode != 0:
+        fail("meshes/generate.sh h5 %s test failed: %s" % (name, p.stderr[-2000:]))
+    return p.stdout.strip().splitlines()[-1]
+
+
+def h5_datasets(path):
+    out = {}
+    with h5py.File(path, "r") as f:
+        f.visititems(lambda n, o: out.__setitem__(n, o[()]) if isinstance(o, h5py.Dataset) else None)
+    return out
+
+
+def case_parallel_io():
+    """Parallel mesh input and collective output. The shell (pressure on a face group) and the cloth (triangles in 3D,
+    one overlap layer) converted to HDF5 by meshes/generate.sh h5: on 1 rank the .h5 run writes the very bytes' values
+    of the .msh run (every dataset equal); on 2 and 3 ranks (PT-Scotch partitions, uneven output blocks) the mesh
+    datasets and markers are equal and the states agree to 1e-8 L; a checkpoint written on 3 ranks restarts on 1 rank
+    from the .msh and ends within 1e-8 L of the uninterrupted run."""
+    shell_msh, shell_h5 = mesh("shell"), h5_mesh("shell")
+    common = ["-options_file", os.path.join(ARGS.root, "options", "sphere_inflate.yml"), "-steps", "3",
+              "-bc_ramp_steps", "3", "-newton_tol", "1e-10", "-output_fields", "all", "-strict"]
+    bases = {}
+    for label, m, n in (("msh1", shell_msh, 1), ("h5_1", shell_h5, 1), ("h5_2", shell_h5, 2), ("h5_3", shell_h5, 3)):
+        tag = "pio_shell_" + label
+        run(common + ["-dm_plex_filename", m, "-output", out_base(tag), "-stats", out_base(tag) + ".csv",
+                      "-checkpoint_every", "2", "-checkpoint", out_base(tag) + ".ck.h5"], ranks=n, tag=tag)
+        bases[label] = out_base(tag)
+    L = None
+    for label in ("h5_1", "h5_2", "h5_3"):
+        for rel in (".h5", ".steps/%s_000003.h5", ".ck.h5"):
+            a = bases["msh1"] + (rel % os.path.basename(bases["msh1"]) if "%" in rel else rel)
+            b = bases[label] + (rel % os.path.basename(bases[label]) if "%" in rel else rel)
+            da, db = h5_datasets(a), h5_datasets(b)
+            if sorted(da) != sorted(db):
+                fail("%s: datasets %s, the .msh run's %s" % (b, sorted(db), sorted(da)))
+            if L is None:
+                rest = da["mesh/rest"]
+                L = np.linalg.norm(rest.max(0) - rest.min(0))
+            for k in da:
+                if da[k].shape != db[k].shape:
+                    fail("%s:%s has shape %s, the .msh run's %s" % (b, k, db[k].shape, da[k].shape))
+                exact = np.array_equal(da[k], db[k], equal_nan=True)
+                if label == "h5_1" or k in ("mesh/topology", "mesh/rest", "vertex/marker", "cell/region"):
+                    if not exact:
+                        fail("%s:%s differs from the .msh run's (must be equal)" % (b, k))
+                elif k in ("positions", "displacement"):
+                    d = np.abs(da[k] - db[k]).max() / L
+                    print("%s %s: max difference %.2e L" % (label, k, d))
+                    if not d <= 1e-8:
+                        fail("%s:%s differs by %.3e L (limit 1e-8)" % (b, k, d))
+    # a checkpoint written on 3 ranks after step 2 of 3, restarted on 1 rank from the .msh
+    tag = "pio_shell_stop2"
+    run(common + ["-dm_plex_filename", shell_h5, "-steps", "2", "-checkpoint_every", "2", "-checkpoint",
+                  out_base(tag) + ".ck.h5"], ranks=3, tag=tag)
+    ck = out_base(tag) + ".ck.h5"
+    tag = "pio_shell_restart"
+    run(common + ["-dm_plex_filename", shell_msh, "-output", out_base(tag), "-restart", ck], ranks=1, tag=tag)
+    x0 = step_positions(bases["msh1"], 3)
+    x1 = step_positions(out_base(tag), 3)
+    d = np.abs(x0 - x1).max() / L
+    print("restart of the 3-rank checkpoint on 1 rank: %.2e L" % d)
+    if not d <= 1e-8:
+        fail("the restart differs by %.3e L" % d)
+    # cloth: triangles in 3D, distributed with an overlap layer
+    cloth = ["-options_file", os.path.join(ARGS.root, "options", "cloth_stretch_ours.yml"), "-steps", "5",
+             "-output_every", "5", "-strict"]
+    states = []
+    for label, m, n in (("msh1", mesh("cloth"), 1), ("h5_2", h5_mesh("cloth"), 2)):
+        tag = "pio_cloth_" + label
+        run(cloth + ["-dm_plex_filename", m, "-output", out_base(tag), "-stats", out_base(tag) + ".csv"], ranks=n,
+            tag=tag)
+        states.append(step_positions(out_base(tag), 5))
+    rest, _, _, _ = read_state(out_base("pio_cloth_msh1"))
+    d = np.abs(states[0] - states[1]).max() / np.linalg.norm(rest.max(0) - rest.min(0))
+    print("cloth, .msh on 1 rank vs .h5 on 2: %.2e L" % d)
+    if not d <= 1e-8:
+        fail("cloth from the .h5 on 2 ranks differs by %.3e L" % d)
+
+
 CASES = {
+    "parallel_io": case_parallel_io,
     "output_fields": case_output_fields,
     "meshio_xdmf": case_meshio_xdmf,
     "output_times": case_output_times,

@@ -20,12 +20,19 @@ using core::wordsOption;
 inline constexpr OptionDecl meshFile =
     textOption("-dm_plex_filename", "FILE",
                "gmsh mesh (MSH 2.2 or 4, ASCII or binary): tetrahedra, or triangles (planar; cloth in 3D with "
-               "-dm_plex_gmsh_spacedim 3). Scene meshes: meshes/generate.sh NAME [SIZE]")
+               "-dm_plex_gmsh_spacedim 3); or FILE.h5, the same mesh converted by -mesh_convert, read in parallel. "
+               "Scene meshes: meshes/generate.sh NAME [SIZE]")
         .otherwise("(required)");
 inline constexpr OptionDecl partitioner =
-    choiceOption("-partitioner", "metis|ptscotch",
-                 "METIS k-way on rank 0 (through PETSc's shell partitioner) or PT-Scotch")
-        .byDefault("metis");
+    choiceOption("-partitioner", "metis|ptscotch|rcb",
+                 "METIS k-way on rank 0 (through PETSc's shell partitioner; gmsh meshes only), PT-Scotch (parallel, "
+                 "not deterministic from run to run) or recursive coordinate bisection of the cell centroids "
+                 "(parallel, deterministic)")
+        .otherwise("metis for a .msh mesh, rcb for an .h5 mesh");
+inline constexpr OptionDecl meshConvert =
+    textOption("-mesh_convert", "FILE.h5",
+               "write the gmsh mesh -dm_plex_filename (its physical groups, regions and numbering) in PETSc's DMPlex "
+               "HDF5 format and stop; -dm_plex_filename FILE.h5 then reads it on all ranks in parallel");
 inline constexpr OptionDecl gmshSpaceDim =
     intOption("-dm_plex_gmsh_spacedim", "D",
               "PETSc's: 3 keeps z for triangle meshes (cloth, -uv_map); read in 2D, a triangle surface whose z is not "
@@ -39,7 +46,7 @@ inline constexpr OptionDecl uvMap =
                "shape is its 3D triangle; output positions are the UV map with z = 0")
         .byDefault("false");
 
-inline constexpr const OptionDecl *kMeshOptions[] = {&meshFile, &partitioner, &gmshSpaceDim, &uvMap};
+inline constexpr const OptionDecl *kMeshOptions[] = {&meshFile, &partitioner, &meshConvert, &gmshSpaceDim, &uvMap};
 
 // ---- material ----
 inline constexpr OptionDecl energy =

@@ -1,10 +1,12 @@
 #include "fem/mesh.hpp"
 
 #include "fem/gmsh_check.hpp"
+#include "core/errors.hpp"
 #include "core/options.hpp"
 #include "fem/fem_options.hpp"
 
-#include <metis.h>
+#include "fem/mesh_loading.hpp"
+
 #include <petscsf.h>
 
 #include <algorithm>
@@ -14,7 +16,6 @@
 #include <set>
 #include <sstream>
 
-static_assert(sizeof(idx_t) == sizeof(PetscInt), "Debian METIS idx_t must match PetscInt (32-bit)");
 
 namespace aries::fem {
 
@@ -25,36 +26,36 @@ Mesh::~Mesh() {
   if (dm) DMDestroy(&dm);
 }
 
-namespace {
+namespace loading {
 
-// $PhysicalNames of a gmsh file (MSH 2 and 4 share the section format): tag -> name. Rank 0 reads, all receive.
-PetscErrorCode readPhysicalNames(MPI_Comm comm, const std::string &file,
-                                 std::map<std::string, Mesh::PhysicalGroup> *names) {
-  PetscMPIInt rank;
+// "dim tag name" lines of a gmsh file's $PhysicalNames (MSH 2 and 4 share the section format); rank 0 reads.
+std::string physicalNamesBlob(const std::string &file) {
   std::string blob;
-  PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (rank == 0) {
-    std::ifstream in(file);
-    std::string line;
-    while (std::getline(in, line)) {
-      if (line.rfind("$PhysicalNames", 0) == 0) {
-        int n = 0;
-        if (!(in >> n)) break;
-        for (int i = 0; i < n; ++i) {
-          int dim, tag;
-          std::string name;
-          if (!(in >> dim >> tag)) break;
-          std::getline(in, name);
-          const auto a = name.find('"'), b = name.rfind('"');
-          if (a != std::string::npos && b > a)
-            blob += std::to_string(dim) + " " + std::to_string(tag) + " " + name.substr(a + 1, b - a - 1) + "\n";
-        }
-        break;
+  std::ifstream in(file);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("$PhysicalNames", 0) == 0) {
+      int n = 0;
+      if (!(in >> n)) break;
+      for (int i = 0; i < n; ++i) {
+        int dim, tag;
+        std::string name;
+        if (!(in >> dim >> tag)) break;
+        std::getline(in, name);
+        const auto a = name.find('"'), b = name.rfind('"');
+        if (a != std::string::npos && b > a)
+          blob += std::to_string(dim) + " " + std::to_string(tag) + " " + name.substr(a + 1, b - a - 1) + "\n";
       }
-      if (line.rfind("$Nodes", 0) == 0) break;  // names come before nodes
+      break;
     }
+    if (line.rfind("$Nodes", 0) == 0) break;  // names come before nodes
   }
+  return blob;
+}
+
+// Rank 0's blob reaches every rank, parsed into tag -> name.
+PetscErrorCode parsePhysicalNames(MPI_Comm comm, std::string blob, std::map<std::string, Mesh::PhysicalGroup> *names) {
+  PetscFunctionBeginUser;
   int len = static_cast<int>(blob.size());
   PetscCallMPI(MPI_Bcast(&len, 1, MPI_INT, 0, comm));
   blob.resize(len);
@@ -69,40 +70,6 @@ PetscErrorCode readPhysicalNames(MPI_Comm comm, const std::string &file,
     std::getline(fields, name);
     (*names)[name.substr(1)] = {static_cast<PetscInt>(dim), static_cast<PetscInt>(tag)};
   }
-  PetscFunctionReturn(0);
-}
-
-// METIS k-way partition of the serial mesh's dual graph on rank 0, handed to the shell partitioner.
-PetscErrorCode setMetisPartition(DM dm, PetscPartitioner part) {
-  PetscMPIInt size;
-  PetscInt nv = 0, *offsets = nullptr, *adjacency = nullptr;
-  IS globalNumbering = nullptr;
-  MPI_Comm comm;
-  PetscFunctionBeginUser;
-  PetscCall(PetscObjectGetComm((PetscObject)dm, &comm));
-  PetscCallMPI(MPI_Comm_size(comm, &size));
-  PetscCall(DMPlexCreatePartitionerGraph(dm, 0, &nv, &offsets, &adjacency, &globalNumbering));
-  std::vector<PetscInt> sizes(size, 0), points(nv);
-  if (nv > 0) {
-    std::vector<idx_t> partOf(nv, 0);
-    idx_t nvtxs = nv, ncon = 1, nparts = size, objval = 0;
-    idx_t options[METIS_NOPTIONS];
-    METIS_SetDefaultOptions(options);
-    options[METIS_OPTION_SEED] = 42;  // deterministic partitions
-    options[METIS_OPTION_NUMBERING] = 0;
-    const int status = METIS_PartGraphKway(&nvtxs, &ncon, offsets, adjacency, nullptr, nullptr, nullptr, &nparts,
-                                           nullptr, nullptr, options, &objval, partOf.data());
-    PetscCheck(status == METIS_OK, comm, PETSC_ERR_LIB, "METIS_PartGraphKway failed (status %d)", status);
-    for (PetscInt c = 0; c < nv; ++c) sizes[partOf[c]]++;
-    std::vector<PetscInt> start(size, 0);
-    for (int p = 1; p < size; ++p) start[p] = start[p - 1] + sizes[p - 1];
-    for (PetscInt c = 0; c < nv; ++c) points[start[partOf[c]]++] = c;
-  }
-  PetscCall(PetscPartitionerSetType(part, PETSCPARTITIONERSHELL));
-  PetscCall(PetscPartitionerShellSetPartition(part, size, sizes.data(), points.data()));
-  PetscCall(PetscFree(offsets));
-  PetscCall(PetscFree(adjacency));
-  PetscCall(ISDestroy(&globalNumbering));
   PetscFunctionReturn(0);
 }
 
@@ -140,31 +107,28 @@ PetscErrorCode classifyShape(const GmshFacts &facts, Mesh *mesh) {
   PetscFunctionReturn(0);
 }
 
-// Natural (serial gmsh-order) ids of the local cells and vertices from the migration SF (leaf -> serial point on
-// rank 0); identity on one rank. Cells that are leaves of the point SF belong to another rank (overlap layer).
-PetscErrorCode numberNaturally(PetscSF migration, PetscInt serialVStart, Mesh *mesh) {
+// Natural ids of the local cells and vertices: `loaded` holds one per point of the chart of the mesh as read (cell id,
+// vertex id, or -1), and the migration SF (leaf: a point of the distributed mesh, root: the point it came from; none on
+// one rank) carries them to the distributed mesh. Cells that are leaves of the point SF belong to another rank
+// (overlap layer).
+PetscErrorCode numberNaturally(PetscSF migration, const std::vector<PetscInt> &loaded, Mesh *mesh) {
+  PetscInt pStart, pEnd;
   PetscFunctionBeginUser;
+  PetscCall(DMPlexGetChart(mesh->dm, &pStart, &pEnd));
+  std::vector<PetscInt> natural(pEnd - pStart, -1);
+  if (migration) {
+    PetscCall(PetscSFBcastBegin(migration, MPIU_INT, loaded.data(), natural.data(), MPI_REPLACE));
+    PetscCall(PetscSFBcastEnd(migration, MPIU_INT, loaded.data(), natural.data(), MPI_REPLACE));
+    PetscCall(PetscSFDestroy(&migration));
+  } else {
+    natural = loaded;
+  }
   mesh->naturalCell.resize(mesh->cEnd - mesh->cStart);
   mesh->naturalVertex.resize(mesh->vEnd - mesh->vStart);
-  std::iota(mesh->naturalCell.begin(), mesh->naturalCell.end(), 0);
-  for (PetscInt v = mesh->vStart; v < mesh->vEnd; ++v) mesh->naturalVertex[v - mesh->vStart] = v - serialVStart;
-  if (migration) {
-    PetscInt nroots, nleaves;
-    const PetscInt *ilocal;
-    const PetscSFNode *iremote;
-    PetscCall(PetscSFGetGraph(migration, &nroots, &nleaves, &ilocal, &iremote));
-    for (PetscInt i = 0; i < nleaves; ++i) {
-      const PetscInt p = ilocal ? ilocal[i] : i;
-      const PetscInt orig = iremote[i].index;
-      if (p >= mesh->cStart && p < mesh->cEnd) mesh->naturalCell[p - mesh->cStart] = orig;
-      if (p >= mesh->vStart && p < mesh->vEnd) mesh->naturalVertex[p - mesh->vStart] = orig - serialVStart;
-    }
-    PetscCall(PetscSFDestroy(&migration));
-  }
+  for (PetscInt c = mesh->cStart; c < mesh->cEnd; ++c) mesh->naturalCell[c - mesh->cStart] = natural[c - pStart];
+  for (PetscInt v = mesh->vStart; v < mesh->vEnd; ++v) mesh->naturalVertex[v - mesh->vStart] = natural[v - pStart];
   std::vector<char> leaf;
-  PetscInt pStart;
   PetscCall(sharedLeafPoints(mesh->dm, &leaf));
-  PetscCall(DMPlexGetChart(mesh->dm, &pStart, nullptr));
   mesh->cellOwned.resize(mesh->cEnd - mesh->cStart);
   for (PetscInt c = mesh->cStart; c < mesh->cEnd; ++c) mesh->cellOwned[c - mesh->cStart] = !leaf[c - pStart];
   PetscFunctionReturn(0);
@@ -216,69 +180,107 @@ PetscErrorCode restBoundingBox(MPI_Comm comm, Mesh *mesh) {
   PetscFunctionReturn(0);
 }
 
-}  // namespace
 
-PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh) {
-  PetscMPIInt size, rank;
-  PetscBool set = PETSC_FALSE;
+bool isHdf5Mesh(const std::string &file) { return file.size() > 3 && file.compare(file.size() - 3, 3, ".h5") == 0; }
+
+// Natural id of every point of a serial mesh's chart: its cell or vertex number, -1 for faces and edges.
+PetscErrorCode serialNaturalIds(DM dm, std::vector<PetscInt> *natural) {
+  PetscInt pStart, pEnd, cStart, cEnd, vStart, vEnd;
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCall(DMPlexGetChart(dm, &pStart, &pEnd));
+  PetscCall(DMPlexGetHeightStratum(dm, 0, &cStart, &cEnd));
+  PetscCall(DMPlexGetDepthStratum(dm, 0, &vStart, &vEnd));
+  natural->assign(pEnd - pStart, -1);
+  for (PetscInt c = cStart; c < cEnd; ++c) (*natural)[c - pStart] = c - cStart;
+  for (PetscInt v = vStart; v < vEnd; ++v) (*natural)[v - pStart] = v - vStart;
+  PetscFunctionReturn(0);
+}
+
+// The gmsh file, read on rank 0 (the other ranks get an empty mesh): its DM, the natural id of every point, the
+// physical names and the global counts.
+PetscErrorCode readGmshMesh(MPI_Comm comm, Mesh *mesh, DM *serial, std::vector<PetscInt> *natural) {
+  PetscMPIInt rank;
+  PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  PetscCall(core::get(opt::meshFile, &mesh->filename, &set));
-  if (!set) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "no mesh: give -dm_plex_filename FILE.msh (gmsh format)");
-  int partitionerChoice = 0;
-  PetscCall(core::getChoice(opt::partitioner, &partitionerChoice));
-  const std::string partitioner = core::choices(opt::partitioner)[partitionerChoice];
   GmshFacts facts;
   PetscCall(validateGmshFile(comm, mesh->filename, &facts));
-  PetscCall(readPhysicalNames(comm, mesh->filename, &mesh->physicalNames));
-
+  PetscCall(parsePhysicalNames(comm, rank == 0 ? physicalNamesBlob(mesh->filename) : std::string(),
+                               &mesh->physicalNames));
   // Without this PETSc 3.18 drops gmsh point groups (pinned vertex sets) instead of labelling them.
   PetscBool hasMark = PETSC_FALSE;
   PetscCall(PetscOptionsHasName(nullptr, nullptr, "-dm_plex_gmsh_mark_vertices", &hasMark));
   if (!hasMark) PetscCall(PetscOptionsSetValue(nullptr, "-dm_plex_gmsh_mark_vertices", "true"));
-  DM serial = nullptr;
-  PetscCall(DMPlexCreateFromFile(comm, mesh->filename.c_str(), "aries", PETSC_TRUE, &serial));
-  PetscCall(DMGetDimension(serial, &mesh->topoDim));
-  PetscCall(DMGetCoordinateDim(serial, &mesh->spaceDim));
+  PetscCall(DMPlexCreateFromFile(comm, mesh->filename.c_str(), "aries", PETSC_TRUE, serial));
+  PetscCall(DMGetDimension(*serial, &mesh->topoDim));
+  PetscCall(DMGetCoordinateDim(*serial, &mesh->spaceDim));
   {
     const PetscErrorCode ierr = classifyShape(facts, mesh);
-    if (ierr) PetscCall(DMDestroy(&serial));
+    if (ierr) PetscCall(DMDestroy(serial));
     PetscCall(ierr);
   }
+  PetscCall(serialNaturalIds(*serial, natural));
+  PetscInt counts[2] = {0, 0}, cStart, cEnd, vStart, vEnd;
+  PetscCall(DMPlexGetHeightStratum(*serial, 0, &cStart, &cEnd));
+  PetscCall(DMPlexGetDepthStratum(*serial, 0, &vStart, &vEnd));
+  counts[0] = vEnd - vStart;
+  counts[1] = cEnd - cStart;
+  PetscCallMPI(MPI_Bcast(counts, 2, MPIU_INT, 0, comm));
+  mesh->numVerticesGlobal = counts[0];
+  mesh->numCellsGlobal = counts[1];
+  PetscFunctionReturn(0);
+}
 
-  // Serial vertex numbering start (for natural vertex ids), known on rank 0.
-  PetscInt serialVStart = 0, serialVEnd = 0, serialCEnd = 0, tmp = 0;
-  PetscCall(DMPlexGetDepthStratum(serial, 0, &serialVStart, &serialVEnd));
-  PetscCall(DMPlexGetHeightStratum(serial, 0, &tmp, &serialCEnd));
-  {
-    PetscInt counts[3] = {serialVStart, serialVEnd - serialVStart, serialCEnd};
-    PetscCallMPI(MPI_Bcast(counts, 3, MPIU_INT, 0, comm));
-    serialVStart = counts[0];
-    mesh->numVerticesGlobal = counts[1];
-    mesh->numCellsGlobal = counts[2];
-  }
+}  // namespace loading
+
+using namespace loading;
+
+PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh) {
+  PetscMPIInt size;
+  PetscBool set = PETSC_FALSE;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCall(core::get(opt::meshFile, &mesh->filename, &set));
+  if (!set)
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+            "no mesh: give -dm_plex_filename FILE.msh (gmsh format) or FILE.h5 (converted with -mesh_convert)");
+  const bool hdf5 = isHdf5Mesh(mesh->filename);
+  int partitionerChoice = 0;
+  PetscBool partitionerSet = PETSC_FALSE;
+  PetscCall(core::getChoice(opt::partitioner, &partitionerChoice, &partitionerSet));
+  const std::string partitioner =
+      partitionerSet ? core::choices(opt::partitioner)[partitionerChoice] : std::string(hdf5 ? "rcb" : "metis");
+  if (hdf5 && partitioner == "metis")
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+            "option -partitioner metis: METIS partitions the whole mesh on rank 0, but '%s' is read in parallel; use "
+            "-partitioner rcb (the default for an HDF5 mesh) or ptscotch, or the gmsh mesh",
+            mesh->filename.c_str());
+
+  DM loaded = nullptr;
+  std::vector<PetscInt> loadedNatural;  // per point of the loaded mesh's chart
+  if (hdf5) PetscCall(readHdf5Mesh(comm, mesh, &loaded, &loadedNatural));
+  else PetscCall(readGmshMesh(comm, mesh, &loaded, &loadedNatural));
 
   PetscSF migration = nullptr;
   if (size > 1) {
     PetscPartitioner part;
-    PetscCall(DMPlexGetPartitioner(serial, &part));
-    if (partitioner == "metis") PetscCall(setMetisPartition(serial, part));
+    PetscCall(DMPlexGetPartitioner(loaded, &part));
+    if (partitioner == "metis") PetscCall(setMetisPartition(loaded, part));
+    else if (partitioner == "rcb") PetscCall(setRcbPartition(loaded, part));
     else PetscCall(PetscPartitionerSetType(part, PETSCPARTITIONERPTSCOTCH));
     DM dist = nullptr;
     const PetscInt overlap = mesh->topoDim == 2 ? 1 : 0;
-    PetscCall(DMPlexDistribute(serial, overlap, &migration, &dist));
+    PetscCall(DMPlexDistribute(loaded, overlap, &migration, &dist));
     if (dist) {
-      PetscCall(DMDestroy(&serial));
-      serial = dist;
+      PetscCall(DMDestroy(&loaded));
+      loaded = dist;
     }
   }
-  mesh->dm = serial;
+  mesh->dm = loaded;
   PetscCall(PetscObjectSetName((PetscObject)mesh->dm, "aries_mesh"));
   PetscCall(DMPlexGetHeightStratum(mesh->dm, 0, &mesh->cStart, &mesh->cEnd));
   PetscCall(DMPlexGetDepthStratum(mesh->dm, 0, &mesh->vStart, &mesh->vEnd));
 
-  PetscCall(numberNaturally(migration, serialVStart, mesh));  // destroys the migration SF
+  PetscCall(numberNaturally(migration, loadedNatural, mesh));  // destroys the migration SF
   PetscCall(checkSimplices(comm, *mesh));
 
   // PETSc's mesh viewer (-dm_view[ :file:format], e.g. -dm_view ::ascii_info_detail or -dm_view hdf5:mesh.h5) on the

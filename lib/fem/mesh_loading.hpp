@@ -1,0 +1,31 @@
+// The pieces of mesh loading (fem/mesh.hpp) shared by its files: the gmsh reader (mesh.cpp), the HDF5 reader and
+// converter (mesh_hdf5.cpp) and the partitioners (mesh_partition.cpp). Internal to lib/fem.
+#pragma once
+
+#include "fem/gmsh_check.hpp"
+#include "fem/mesh.hpp"
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace aries::fem::loading {
+
+// The element shape from the cell and space dimensions (-uv_map: triangles in 3D with 2D unknowns).
+PetscErrorCode classifyShape(const GmshFacts &facts, Mesh *mesh);
+// "dim tag name" lines (rank 0's blob, broadcast) parsed into the mesh's physical names.
+PetscErrorCode parsePhysicalNames(MPI_Comm comm, std::string blob, std::map<std::string, Mesh::PhysicalGroup> *names);
+// Only linear simplices (tetrahedra, triangles); collective.
+PetscErrorCode checkSimplices(MPI_Comm comm, const Mesh &mesh);
+// The gmsh file -dm_plex_filename read on rank 0: its serial DM, the natural id of every point of its chart (cell or
+// vertex number, -1 for others), the physical names and the global counts.
+PetscErrorCode readGmshMesh(MPI_Comm comm, Mesh *mesh, DM *serial, std::vector<PetscInt> *natural);
+bool isHdf5Mesh(const std::string &file);
+// A mesh converted by convertMesh, read by all ranks in parallel; `natural` as for readGmshMesh, per loaded point.
+PetscErrorCode readHdf5Mesh(MPI_Comm comm, Mesh *mesh, DM *dm, std::vector<PetscInt> *natural);
+// Partitions for DMPlexDistribute through PETSc's shell partitioner: METIS k-way of the dual graph (the mesh must be on
+// rank 0) and recursive coordinate bisection of the cell centroids (any distribution, deterministic).
+PetscErrorCode setMetisPartition(DM dm, PetscPartitioner part);
+PetscErrorCode setRcbPartition(DM dm, PetscPartitioner part);
+
+}  // namespace aries::fem::loading

@@ -1,0 +1,156 @@
+// Partitions handed to PETSc's shell partitioner (fem/mesh_loading.hpp).
+#include "fem/mesh_loading.hpp"
+
+#include <metis.h>
+
+#include <algorithm>
+#include <vector>
+
+static_assert(sizeof(idx_t) == sizeof(PetscInt), "Debian METIS idx_t must match PetscInt (32-bit)");
+
+namespace aries::fem::loading {
+
+// METIS k-way partition of the serial mesh's dual graph on rank 0, handed to the shell partitioner.
+PetscErrorCode setMetisPartition(DM dm, PetscPartitioner part) {
+  PetscMPIInt size;
+  PetscInt nv = 0, *offsets = nullptr, *adjacency = nullptr;
+  IS globalNumbering = nullptr;
+  MPI_Comm comm;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetComm((PetscObject)dm, &comm));
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCall(DMPlexCreatePartitionerGraph(dm, 0, &nv, &offsets, &adjacency, &globalNumbering));
+  std::vector<PetscInt> sizes(size, 0), points(nv);
+  if (nv > 0) {
+    std::vector<idx_t> partOf(nv, 0);
+    idx_t nvtxs = nv, ncon = 1, nparts = size, objval = 0;
+    idx_t options[METIS_NOPTIONS];
+    METIS_SetDefaultOptions(options);
+    options[METIS_OPTION_SEED] = 42;  // deterministic partitions
+    options[METIS_OPTION_NUMBERING] = 0;
+    const int status = METIS_PartGraphKway(&nvtxs, &ncon, offsets, adjacency, nullptr, nullptr, nullptr, &nparts,
+                                           nullptr, nullptr, options, &objval, partOf.data());
+    PetscCheck(status == METIS_OK, comm, PETSC_ERR_LIB, "METIS_PartGraphKway failed (status %d)", status);
+    for (PetscInt c = 0; c < nv; ++c) sizes[partOf[c]]++;
+    std::vector<PetscInt> start(size, 0);
+    for (int p = 1; p < size; ++p) start[p] = start[p - 1] + sizes[p - 1];
+    for (PetscInt c = 0; c < nv; ++c) points[start[partOf[c]]++] = c;
+  }
+  PetscCall(PetscPartitionerSetType(part, PETSCPARTITIONERSHELL));
+  PetscCall(PetscPartitionerShellSetPartition(part, size, sizes.data(), points.data()));
+  PetscCall(PetscFree(offsets));
+  PetscCall(PetscFree(adjacency));
+  PetscCall(ISDestroy(&globalNumbering));
+  PetscFunctionReturn(0);
+}
+
+// Recursive coordinate bisection of the cells by their centroids, computed where the cells are (the mesh may be
+// spread over the ranks, as an HDF5 mesh is after loading): every group of cells bound for the parts [lo, hi) is cut
+// across its longest side at the coordinate that sends the share (hi - lo) / 2 / (hi - lo) of its cells to the first
+// half (bisection on the cut value, one reduction of all groups' counts per iteration), until every group is one part.
+// The result depends on the centroids only, not on how the cells were spread when loaded, so it is deterministic (unlike
+// PT-Scotch's) and needs no rank to hold the whole graph (unlike METIS here, Debian's PETSc having no ParMETIS).
+PetscErrorCode setRcbPartition(DM dm, PetscPartitioner part) {
+  MPI_Comm comm;
+  PetscMPIInt size;
+  PetscInt cStart, cEnd;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetComm((PetscObject)dm, &comm));
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCall(DMPlexGetHeightStratum(dm, 0, &cStart, &cEnd));
+  const PetscInt n = cEnd - cStart;
+  std::vector<double> centroid(3 * n, 0.0);
+  {
+    Vec coords;
+    PetscSection section;
+    PetscInt cdim;
+    const PetscScalar *x;
+    PetscCall(DMGetCoordinatesLocal(dm, &coords));
+    PetscCall(DMGetCoordinateSection(dm, &section));
+    PetscCall(DMGetCoordinateDim(dm, &cdim));
+    PetscCall(VecGetArrayRead(coords, &x));
+    PetscInt vStart, vEnd;
+    PetscCall(DMPlexGetDepthStratum(dm, 0, &vStart, &vEnd));
+    for (PetscInt c = cStart; c < cEnd; ++c) {
+      PetscInt nc, *closure = nullptr, count = 0;
+      PetscCall(DMPlexGetTransitiveClosure(dm, c, PETSC_TRUE, &nc, &closure));
+      for (PetscInt k = 0; k < nc; ++k) {
+        const PetscInt q = closure[2 * k];
+        if (q < vStart || q >= vEnd) continue;
+        PetscInt off;
+        PetscCall(PetscSectionGetOffset(section, q, &off));
+        for (PetscInt d = 0; d < cdim && d < 3; ++d) centroid[3 * (c - cStart) + d] += x[off + d];
+        ++count;
+      }
+      PetscCall(DMPlexRestoreTransitiveClosure(dm, c, PETSC_TRUE, &nc, &closure));
+      for (int d = 0; d < 3; ++d) centroid[3 * (c - cStart) + d] /= std::max<PetscInt>(count, 1);
+    }
+    PetscCall(VecRestoreArrayRead(coords, &x));
+  }
+  std::vector<int> lo(n, 0), hi(n, size);  // each cell's range of parts; groups are named by lo
+  for (;;) {
+    std::vector<double> boxLo(3 * size, PETSC_MAX_REAL), boxHi(3 * size, -PETSC_MAX_REAL);
+    std::vector<long long> total(size, 0);
+    for (PetscInt c = 0; c < n; ++c) {
+      if (hi[c] - lo[c] < 2) continue;
+      ++total[lo[c]];
+      for (int d = 0; d < 3; ++d) {
+        boxLo[3 * lo[c] + d] = std::min(boxLo[3 * lo[c] + d], centroid[3 * c + d]);
+        boxHi[3 * lo[c] + d] = std::max(boxHi[3 * lo[c] + d], centroid[3 * c + d]);
+      }
+    }
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, boxLo.data(), 3 * size, MPI_DOUBLE, MPI_MIN, comm));
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, boxHi.data(), 3 * size, MPI_DOUBLE, MPI_MAX, comm));
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, total.data(), size, MPI_LONG_LONG, MPI_SUM, comm));
+    long long active = 0;
+    for (long long t : total) active += t;
+    if (active == 0) break;
+    // per group: the axis, the target count of the first half, the bracket of the cut value
+    std::vector<int> axis(size, 0), span(size, 0);
+    std::vector<long long> target(size, 0);
+    std::vector<double> cutLo(size, 0.0), cutHi(size, 0.0);
+    for (PetscInt c = 0; c < n; ++c) span[lo[c]] = hi[c] - lo[c];  // the same for every cell of a group
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, span.data(), size, MPI_INT, MPI_MAX, comm));
+    for (int g = 0; g < size; ++g) {
+      if (total[g] == 0) continue;
+      for (int d = 1; d < 3; ++d)
+        if (boxHi[3 * g + d] - boxLo[3 * g + d] > boxHi[3 * g + axis[g]] - boxLo[3 * g + axis[g]]) axis[g] = d;
+      const int half = span[g] / 2;
+      target[g] = (total[g] * half + span[g] / 2) / span[g];
+      cutLo[g] = boxLo[3 * g + axis[g]];
+      cutHi[g] = boxHi[3 * g + axis[g]];
+    }
+    // the smallest cut with at least `target` cells at or below it (60 halvings: below the coordinates' round-off)
+    std::vector<long long> below(size);
+    for (int it = 0; it < 60; ++it) {
+      std::fill(below.begin(), below.end(), 0);
+      for (PetscInt c = 0; c < n; ++c) {
+        const int g = lo[c];
+        if (hi[c] - lo[c] >= 2 && centroid[3 * c + axis[g]] <= 0.5 * (cutLo[g] + cutHi[g])) ++below[g];
+      }
+      PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, below.data(), size, MPI_LONG_LONG, MPI_SUM, comm));
+      for (int g = 0; g < size; ++g) {
+        if (total[g] == 0) continue;
+        const double mid = 0.5 * (cutLo[g] + cutHi[g]);
+        (below[g] >= target[g] ? cutHi[g] : cutLo[g]) = mid;
+      }
+    }
+    for (PetscInt c = 0; c < n; ++c) {
+      const int g = lo[c];
+      if (hi[c] - lo[c] < 2) continue;
+      const int half = span[g] / 2;
+      if (centroid[3 * c + axis[g]] <= cutHi[g]) hi[c] = lo[c] + half;
+      else lo[c] += half;
+    }
+  }
+  std::vector<PetscInt> sizes(size, 0), points(n);
+  for (PetscInt c = 0; c < n; ++c) sizes[lo[c]]++;
+  std::vector<PetscInt> start(size, 0);
+  for (int p = 1; p < size; ++p) start[p] = start[p - 1] + sizes[p - 1];
+  for (PetscInt c = 0; c < n; ++c) points[start[lo[c]]++] = c;
+  PetscCall(PetscPartitionerSetType(part, PETSCPARTITIONERSHELL));
+  PetscCall(PetscPartitionerShellSetPartition(part, size, sizes.data(), points.data()));
+  PetscFunctionReturn(0);
+}
+
+}  // namespace aries::fem::loading
