@@ -1627,7 +1627,48 @@ def case_parallel_io():
         fail("cloth from the .h5 on 2 ranks differs by %.3e L" % d)
 
 
+def case_multigrid_rule():
+    """The preconditioner rule: without -pc_type a static solve of at least -multigrid_min_dofs free DoFs runs CG + GAMG
+    (announced on one line; lowered here to 0 for a test mesh), and ends where CG + Jacobi does (within the Newton
+    tolerance); -pc_type jacobi, a dynamic run or -multigrid_min_dofs -1 keep CG + Jacobi; the static scramble's
+    detached relaxation inherits GAMG and converges."""
+    body = ["-dm_plex_filename", mesh("cube"), "-energy", "iarap", "-E", "1e4", "-nu", "0.3", "-bc_clamp", "bottom,top",
+            "-bc_clamp_top_translate", "0,0,-0.1", "-strict"]
+    cube = body + ["-integrator", "static", "-steps", "2", "-newton_tol", "1e-8"]
+    announced = "aries: linear solver CG + GAMG"
+    states = {}
+    for label, extra, gamg in (("rule", ["-multigrid_min_dofs", "0"], True),
+                               ("jacobi", ["-multigrid_min_dofs", "0", "-pc_type", "jacobi"], False),
+                               ("default", [], False), ("never", ["-multigrid_min_dofs", "-1"], False)):
+        tag = "mg_rule_%s_np%d" % (label, ARGS.ranks)
+        log, _ = run(cube + extra + ["-output", out_base(tag), "-output_every", "2", "-stats", out_base(tag) + ".csv"],
+                     tag=tag)
+        if (announced in log) != gamg:
+            fail("%s: GAMG %s announced" % (label, "not" if gamg else "wrongly"))
+        if not all(r["reason"] in CONVERGED for r in stats(out_base(tag) + ".csv")):
+            fail("%s: a step did not converge" % label)
+        states[label] = read_state(out_base(tag))
+    rest, _, x_gamg, _ = states["rule"]
+    L = np.linalg.norm(rest.max(0) - rest.min(0))
+    d = np.abs(x_gamg - states["jacobi"][2]).max() / L
+    print("GAMG by rule vs CG + Jacobi: %.2e L" % d)
+    if not d <= 1e-6:
+        fail("GAMG and Jacobi runs end %.3e L apart" % d)
+    tag = "mg_rule_dynamic_np%d" % ARGS.ranks
+    log, _ = run(body + ["-integrator", "beuler", "-dt", "1e-2", "-density", "1000", "-steps", "2",
+                         "-multigrid_min_dofs", "0"], tag=tag)
+    if announced in log:
+        fail("a dynamic run chose GAMG")
+    tag = "mg_rule_scramble_np%d" % ARGS.ranks
+    log, _ = run(["-dm_plex_filename", mesh("cube"), "-energy", "iarap", "-E", "1e4", "-nu", "0.3", "-bc_clamp", "bottom",
+                  "-initial", "scramble", "-integrator", "static", "-steps", "1", "-multigrid_min_dofs", "0",
+                  "-stats", out_base(tag) + ".csv", "-strict"], tag=tag)
+    if announced not in log or stats(out_base(tag) + ".csv")[-1]["reason"] not in CONVERGED:
+        fail("the static scramble with GAMG by rule did not converge")
+
+
 CASES = {
+    "multigrid_rule": case_multigrid_rule,
     "parallel_io": case_parallel_io,
     "output_fields": case_output_fields,
     "meshio_xdmf": case_meshio_xdmf,

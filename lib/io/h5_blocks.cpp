@@ -4,9 +4,12 @@ namespace aries::io {
 
 namespace {
 
+// MPI-IO on several ranks; one rank keeps HDF5's default POSIX driver (no MPI-IO layer to pay for).
 hid_t mpioAccess(MPI_Comm comm) {
+  int size = 1;
+  MPI_Comm_size(comm, &size);
   hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
-  H5Pset_fapl_mpio(fapl, comm, MPI_INFO_NULL);
+  if (size > 1) H5Pset_fapl_mpio(fapl, comm, MPI_INFO_NULL);
   return fapl;
 }
 
@@ -31,9 +34,12 @@ struct BlockSpaces {
   }
 };
 
-hid_t collectiveTransfer() {
+// Collective transfers where the file is open with MPI-IO.
+hid_t collectiveTransfer(hid_t file) {
   hid_t dxpl = H5Pcreate(H5P_DATASET_XFER);
-  H5Pset_dxpl_mpio(dxpl, H5FD_MPIO_COLLECTIVE);
+  hid_t fapl = H5Fget_access_plist(file);
+  if (H5Pget_driver(fapl) == H5FD_MPIO) H5Pset_dxpl_mpio(dxpl, H5FD_MPIO_COLLECTIVE);
+  H5Pclose(fapl);
   return dxpl;
 }
 
@@ -47,7 +53,7 @@ bool writeBlock(hid_t file, const std::string &name, const core::NaturalBlocks &
   bool ok = dset >= 0;
   if (ok) {
     BlockSpaces spaces(space, layout, comps);
-    hid_t dxpl = collectiveTransfer();
+    hid_t dxpl = collectiveTransfer(file);
     ok = H5Dwrite(dset, memType, spaces.memory, spaces.file, dxpl, block) >= 0;
     H5Pclose(dxpl);
     H5Dclose(dset);
@@ -98,7 +104,7 @@ bool readBlockDataset(hid_t file, const std::string &name, const core::NaturalBl
   if (ok) {
     block->assign(static_cast<size_t>(layout.blockSize()) * comps, 0.0);
     BlockSpaces spaces(space, layout, comps);
-    hid_t dxpl = collectiveTransfer();
+    hid_t dxpl = collectiveTransfer(file);
     ok = H5Dread(dset, H5T_NATIVE_DOUBLE, spaces.memory, spaces.file, dxpl, block->data()) >= 0;
     H5Pclose(dxpl);
   }

@@ -1,7 +1,8 @@
 // Parallel HDF5 files whose datasets are written and read block by block (core::NaturalBlocks): every rank opens the
-// file (MPI-IO), the datasets are created collectively, and each rank moves its block of rows (one contiguous
-// hyperslab) in one collective transfer. No rank ever holds more than its block, and a file written on one rank count
-// is read on any other. Attribute and dataset creation are collective: every rank calls with the same arguments.
+// file (MPI-IO; a single rank uses the POSIX driver), the datasets are created collectively, and each rank moves its
+// block of rows (one contiguous hyperslab) in one collective transfer. No rank ever holds more than its block, and a
+// file written on one rank count is read on any other. Attribute and dataset creation are collective: every rank
+// calls with the same arguments.
 #pragma once
 
 #include "core/parallel.hpp"

@@ -1,4 +1,5 @@
-// Projected Newton on the total potential with PETSc SNES (newtonls), KSP CG + Jacobi by default.
+// Projected Newton on the total potential with PETSc SNES (newtonls), KSP CG + Jacobi by default (CG + GAMG for a
+// large static solve, chooseMultigrid).
 //
 //  * Model: the energy is the SNES objective (line searches work on it), its gradient the residual, the assembled
 //    eigenvalue-filtered Hessian the Jacobian (DMSNES local callbacks; Dirichlet values filled by the boundary
@@ -68,6 +69,8 @@ class NewtonSolver {
   PetscErrorCode copySolverSettings(const NewtonSolver &base);
   PetscErrorCode attachNearNullSpace();
   PetscErrorCode configureMultigrid();
+  // The preconditioner rule (-pc_type not given): GAMG for a large static solve, else Jacobi.
+  PetscErrorCode chooseMultigrid(bool dynamic, bool otherMatType, const char *prefix, bool *multigrid);
   PetscErrorCode inertiaGuess(Mat H);  // initial guess of the linear solve
   PetscErrorCode finishUpdate(Vec xNew);  // after an update: its record and every step's finishUpdate
   static PetscErrorCode objectiveCallback(SNES, Vec, PetscReal *, void *);
@@ -82,6 +85,7 @@ class NewtonSolver {
 
   NewtonOptions opts_;
   NewtonContext ctx_;
+  bool multigridByRule_ = false;  // GAMG chosen by chooseMultigrid (the detached start's solver inherits it)
   std::vector<std::unique_ptr<NewtonStep>> steps_;  // in the order they run
   ConvergenceCheck *check_ = nullptr;               // owned by steps_
   AlphaSafeguard *safeguard_ = nullptr;             // owned by steps_

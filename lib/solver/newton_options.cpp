@@ -38,6 +38,8 @@ PetscErrorCode readNewtonOptions(bool dynamic, const NewtonOptions *base, const 
   int nullspace = o->rigidNearNullspace ? 0 : 1;  // rigid|none
   PetscCall(core::getChoice(opt::nearNullspace, &nullspace, nullptr, at));
   o->rigidNearNullspace = nullspace == 0;
+  // the preconditioner rule is the run's: a phase's solver (the detached start) inherits its choice
+  if (!base) PetscCall(core::get(opt::multigridMinDofs, &o->multigridMinDofs, nullptr, at));
   PetscFunctionReturn(0);
 }
 

@@ -45,6 +45,7 @@ struct NewtonOptions {
   SafeguardOptions safeguard;
   bool inertiaGuess = false;       // -newton_inertia_guess (backward Euler)
   bool rigidNearNullspace = true;  // -near_nullspace rigid|none
+  PetscInt multigridMinDofs = 200000;  // -multigrid_min_dofs: static solves this large use CG + GAMG (-1: never)
 };
 
 // Reads the Newton options for a static (`dynamic` false) or backward-Euler run. `base` and `prefix`: the options of

@@ -124,9 +124,16 @@ inline constexpr OptionDecl nearNullspace =
                  "the rest shape's rigid-body modes attached to the Jacobian as its near-nullspace (used by -pc_type "
                  "gamg; ignored by Jacobi and LU)")
         .byDefault("rigid");
+inline constexpr OptionDecl multigridMinDofs =
+    intOption("-multigrid_min_dofs", "N",
+              "without -pc_type: a static solve with at least N free DoFs uses CG + GAMG (smoothed aggregation, rigid "
+              "near-nullspace, AIJ), every other solve the paper's CG + Jacobi (-1: never GAMG); measured by "
+              "bench/scale_out.py")
+        .byDefault("200000")
+        .atLeast(-1);
 
 inline constexpr const OptionDecl *kNewtonOptions[] = {
     &newtonTol,      &alphaMin,          &psdProjection,  &psdEigensystem,     &psdAdaptiveTol, &newtonSubspace,
-    &newtonSubspaceMax, &newtonRotation, &newtonForcing,  &newtonInertiaGuess, &nearNullspace};
+    &newtonSubspaceMax, &newtonRotation, &newtonForcing,  &newtonInertiaGuess, &nearNullspace, &multigridMinDofs};
 
 }  // namespace aries::solver::opt

@@ -70,6 +70,7 @@ CATALOG = {
         "default": {"n": 18, "tets": 6 * 18 ** 3},
         "paper": {"alias": "default"},
         "fine": {"n": 24, "tets": 6 * 24 ** 3},
+        "s384k": {"n": 40, "tets": 6 * 40 ** 3},  # scale-out: 384,000 tets (solver crossover, bench/scale_out.py)
         "s1m": {"n": 56, "tets": 6 * 56 ** 3},  # scale-out: 1,053,696 tets (solver crossover, bench/scale_out.py)
         "s2m": {"n": 70, "tets": 6 * 70 ** 3},  # scale-out: 2,058,000 tets (parallel input and output)
     },
