@@ -166,8 +166,9 @@ PetscErrorCode RunOutput::writeState(const solver::Simulation &sim, PetscInt ste
   if (needs(FieldSource::StressMeasures)) PetscCall(disc.diagnostics().cellStressMeasures(xLocal, &sm));
   if (needs(FieldSource::Fibers)) PetscCall(disc.diagnostics().cellFibers(&fibers));
   if (needs(FieldSource::Regions)) disc.diagnostics().cellRegions(&regions);
-  std::vector<CellField> cellFields, vertexFields;
-  for (const OutputField *f : selected) {
+  PetscCall(writer_.beginStep(step, time, positions));
+  positions = std::vector<double>();
+  for (const OutputField *f : selected) {  // one field at a time: computed, written, released
     const std::string name = f->name;
     CellField out{name, f->components, {}};
     std::vector<double> local;  // per local cell, f->components each
@@ -206,15 +207,11 @@ PetscErrorCode RunOutput::writeState(const solver::Simulation &sim, PetscInt ste
       case FieldSource::Reactions: PetscCall(disc.diagnostics().ownedVertexReactions(xLocal, &out.values)); break;
       case FieldSource::Markers: disc.diagnostics().ownedVertexMarkers(&out.values); break;
     }
-    if (f->perCell()) {
-      disc.diagnostics().ownedCellValues(local, f->components, &out.values);
-      cellFields.push_back(std::move(out));
-    } else {
-      vertexFields.push_back(std::move(out));
-    }
+    if (f->perCell()) disc.diagnostics().ownedCellValues(local, f->components, &out.values);
+    PetscCall(writer_.writeField(out, f->perCell()));
   }
   PetscCall(DMRestoreLocalVector(disc.dm(), &xLocal));
-  PetscCall(writer_.writeStep(step, time, positions, cellFields, vertexFields));
+  PetscCall(writer_.endStep());
   PetscCall(PetscLogStagePop());
   PetscFunctionReturn(0);
 }

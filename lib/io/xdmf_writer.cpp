@@ -80,42 +80,48 @@ PetscErrorCode XdmfWriter::open(MPI_Comm comm, const std::string &base, const co
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode XdmfWriter::writeStep(PetscInt step, double time, const std::vector<double> &positions,
-                                     const std::vector<CellField> &cellFields,
-                                     const std::vector<CellField> &vertexFields) {
-  PetscMPIInt rank;
+PetscErrorCode XdmfWriter::beginStep(PetscInt step, double time, const std::vector<double> &positions) {
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(comm_, &rank));
-  const std::string fname = stepFileName(name_, step), path = dir_ + "/" + fname, tmp = path + ".tmp";
+  open_ = OpenStep{-1, false, step, time, stepFileName(name_, step)};
   std::vector<double> block, disp;
   PetscCall(vertices_->toBlocks(positions, 3, &block));
   disp.resize(block.size());
   for (size_t i = 0; i < block.size(); ++i) disp[i] = block[i] - restBlock_[i];
-  hid_t f = createParallelFile(comm_, tmp);
-  bool ok = f >= 0 && writeBlockDataset(f, "/positions", *vertices_, block, 3) &&
-            writeBlockDataset(f, "/displacement", *vertices_, disp, 3) && writeVersionAttributes(f);
+  open_.file = createParallelFile(comm_, dir_ + "/" + open_.name + ".tmp");
+  open_.ok = open_.file >= 0 && writeBlockDataset(open_.file, "/positions", *vertices_, block, 3) &&
+             writeBlockDataset(open_.file, "/displacement", *vertices_, disp, 3) && writeVersionAttributes(open_.file);
   // the step's time, for restarts (the index is rebuilt from the step files)
-  ok = ok && writeScalarAttribute(f, "time", H5T_NATIVE_DOUBLE, time);
+  open_.ok = open_.ok && writeScalarAttribute(open_.file, "time", H5T_NATIVE_DOUBLE, time);
   cellFieldLayout_.clear();
-  for (const auto &cf : cellFields) {
-    PetscCall(cells_->toBlocks(cf.values, cf.components, &block));
-    ok = ok && writeBlockDataset(f, "/cell/" + cf.name, *cells_, block, cf.components);
-    cellFieldLayout_.emplace_back(cf.name, cf.components);
-  }
   vertexFieldLayout_.clear();
-  for (const auto &vf : vertexFields) {
-    PetscCall(vertices_->toBlocks(vf.values, vf.components, &block));
-    ok = ok && writeBlockDataset(f, "/vertex/" + vf.name, *vertices_, block, vf.components);
-    vertexFieldLayout_.emplace_back(vf.name, vf.components);
-  }
-  if (f >= 0) ok = H5Fclose(f) >= 0 && ok;
-  int good = ok, allGood = 0;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode XdmfWriter::writeField(const CellField &field, bool perCell) {
+  PetscFunctionBeginUser;
+  const core::NaturalBlocks &layout = perCell ? *cells_ : *vertices_;
+  std::vector<double> block;
+  PetscCall(layout.toBlocks(field.values, field.components, &block));
+  open_.ok = open_.ok && writeBlockDataset(open_.file, (perCell ? "/cell/" : "/vertex/") + field.name, layout, block,
+                                           field.components);
+  (perCell ? cellFieldLayout_ : vertexFieldLayout_).emplace_back(field.name, field.components);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode XdmfWriter::endStep() {
+  PetscMPIInt rank;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm_, &rank));
+  if (open_.file >= 0) open_.ok = H5Fclose(open_.file) >= 0 && open_.ok;
+  open_.file = -1;
+  int good = open_.ok, allGood = 0;
   PetscCallMPI(MPI_Allreduce(&good, &allGood, 1, MPI_INT, MPI_MIN, comm_));
+  const std::string path = dir_ + "/" + open_.name, tmp = path + ".tmp";
   std::string err;
   if (rank == 0) {
     if (!allGood || std::rename(tmp.c_str(), path.c_str()) != 0) err = "cannot write output step file '" + path + "'";
     if (err.empty()) {
-      steps_.push_back({step, time, fname});
+      steps_.push_back({open_.step, open_.time, open_.name});
       PetscCall(writeXmf());
     }
   }

@@ -11,6 +11,8 @@
 
 #include "core/parallel.hpp"
 
+#include <hdf5.h>
+
 #include <petscsys.h>
 
 #include <string>
@@ -33,9 +35,12 @@ class XdmfWriter {
   PetscErrorCode open(MPI_Comm comm, const std::string &base, const core::NaturalBlocks &vertices,
                       const core::NaturalBlocks &cells, const std::vector<PetscInt> &topology, int verticesPerCell,
                       const std::vector<double> &rest, PetscInt resumeAfterStep = -1);
-  // Collective: `positions` (x3) and the fields' values on this rank's owned vertices and cells.
-  PetscErrorCode writeStep(PetscInt step, double time, const std::vector<double> &positions,
-                           const std::vector<CellField> &cellFields, const std::vector<CellField> &vertexFields = {});
+  // One output step, written field by field so that a rank holds one field at a time: beginStep creates the step file
+  // with `positions` (x3, this rank's owned vertices) and the displacement, writeField adds a cell or vertex field
+  // (values on this rank's owned cells or vertices), endStep completes the file and the index. All collective.
+  PetscErrorCode beginStep(PetscInt step, double time, const std::vector<double> &positions);
+  PetscErrorCode writeField(const CellField &field, bool perCell);
+  PetscErrorCode endStep();
   const std::string &xmfPath() const { return xmf_; }
   bool isOpen() const { return !base_.empty(); }
 
@@ -55,6 +60,13 @@ class XdmfWriter {
   std::vector<double> restBlock_;  // this rank's block of the rest positions (the displacement's reference)
   std::vector<StepEntry> steps_;
   std::vector<std::pair<std::string, int>> cellFieldLayout_, vertexFieldLayout_;
+  struct OpenStep {  // the step file being written (beginStep .. endStep)
+    hid_t file = -1;
+    bool ok = false;
+    PetscInt step = 0;
+    double time = 0.0;
+    std::string name;  // relative to the output directory
+  } open_;
 };
 
 }  // namespace aries::io
