@@ -10,6 +10,23 @@ static_assert(sizeof(idx_t) == sizeof(PetscInt), "Debian METIS idx_t must match 
 
 namespace aries::fem::loading {
 
+namespace {
+
+// Hands the shell partitioner this rank's cells grouped by destination: partOf[c] is the part of local cell c.
+template <class Part>
+PetscErrorCode setShellPartition(PetscPartitioner part, PetscMPIInt size, const std::vector<Part> &partOf) {
+  PetscFunctionBeginUser;
+  std::vector<PetscInt> sizes(size, 0), points(partOf.size()), start(size, 0);
+  for (const Part p : partOf) sizes[p]++;
+  for (int p = 1; p < size; ++p) start[p] = start[p - 1] + sizes[p - 1];
+  for (size_t c = 0; c < partOf.size(); ++c) points[start[partOf[c]]++] = static_cast<PetscInt>(c);
+  PetscCall(PetscPartitionerSetType(part, PETSCPARTITIONERSHELL));
+  PetscCall(PetscPartitionerShellSetPartition(part, size, sizes.data(), points.data()));
+  PetscFunctionReturn(0);
+}
+
+}  // namespace
+
 // METIS k-way partition of the serial mesh's dual graph on rank 0, handed to the shell partitioner.
 PetscErrorCode setMetisPartition(DM dm, PetscPartitioner part) {
   PetscMPIInt size;
@@ -20,9 +37,8 @@ PetscErrorCode setMetisPartition(DM dm, PetscPartitioner part) {
   PetscCall(PetscObjectGetComm((PetscObject)dm, &comm));
   PetscCallMPI(MPI_Comm_size(comm, &size));
   PetscCall(DMPlexCreatePartitionerGraph(dm, 0, &nv, &offsets, &adjacency, &globalNumbering));
-  std::vector<PetscInt> sizes(size, 0), points(nv);
+  std::vector<idx_t> partOf(nv, 0);
   if (nv > 0) {
-    std::vector<idx_t> partOf(nv, 0);
     idx_t nvtxs = nv, ncon = 1, nparts = size, objval = 0;
     idx_t options[METIS_NOPTIONS];
     METIS_SetDefaultOptions(options);
@@ -31,13 +47,8 @@ PetscErrorCode setMetisPartition(DM dm, PetscPartitioner part) {
     const int status = METIS_PartGraphKway(&nvtxs, &ncon, offsets, adjacency, nullptr, nullptr, nullptr, &nparts,
                                            nullptr, nullptr, options, &objval, partOf.data());
     PetscCheck(status == METIS_OK, comm, PETSC_ERR_LIB, "METIS_PartGraphKway failed (status %d)", status);
-    for (PetscInt c = 0; c < nv; ++c) sizes[partOf[c]]++;
-    std::vector<PetscInt> start(size, 0);
-    for (int p = 1; p < size; ++p) start[p] = start[p - 1] + sizes[p - 1];
-    for (PetscInt c = 0; c < nv; ++c) points[start[partOf[c]]++] = c;
   }
-  PetscCall(PetscPartitionerSetType(part, PETSCPARTITIONERSHELL));
-  PetscCall(PetscPartitionerShellSetPartition(part, size, sizes.data(), points.data()));
+  PetscCall(setShellPartition(part, size, partOf));
   PetscCall(PetscFree(offsets));
   PetscCall(PetscFree(adjacency));
   PetscCall(ISDestroy(&globalNumbering));
@@ -143,13 +154,7 @@ PetscErrorCode setRcbPartition(DM dm, PetscPartitioner part) {
       else lo[c] += half;
     }
   }
-  std::vector<PetscInt> sizes(size, 0), points(n);
-  for (PetscInt c = 0; c < n; ++c) sizes[lo[c]]++;
-  std::vector<PetscInt> start(size, 0);
-  for (int p = 1; p < size; ++p) start[p] = start[p - 1] + sizes[p - 1];
-  for (PetscInt c = 0; c < n; ++c) points[start[lo[c]]++] = c;
-  PetscCall(PetscPartitionerSetType(part, PETSCPARTITIONERSHELL));
-  PetscCall(PetscPartitionerShellSetPartition(part, size, sizes.data(), points.data()));
+  PetscCall(setShellPartition(part, size, lo));  // each group is one part now: lo is the cell's part
   PetscFunctionReturn(0);
 }
 
