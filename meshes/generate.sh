@@ -7,7 +7,7 @@
 #   meshes/generate.sh all [SIZE]    build every mesh of that size; prints one path per line
 #   meshes/generate.sh h5 NAME [SIZE]
 #                                    print the path of meshes/cache/NAME_SIZE.h5, the .msh converted (once)
-#                                    by aries -mesh_convert to PETSc's HDF5 format, which every rank reads in
+#                                    by aries -mesh_convert to aries' HDF5 mesh, which every rank reads in
 #                                    parallel; needs the aries binary ($ARIES_BIN, default build/aries)
 #   meshes/generate.sh list          names, sizes, kinds (tet/tri), parameters, expected cell counts
 #
@@ -87,14 +87,19 @@ generate() {
 }
 
 # The HDF5 copy of a cached mesh, converted by aries itself (so the file matches the reader); rebuilt when the .msh
-# is newer. Triangle meshes are converted in 3D (the cloth and UV scenes' reading; a planar 2D run, Cook's membrane,
+# is newer or the file's format (root attribute aries_mesh_format) is not the one aries reads. Triangle meshes are converted in 3D (the cloth and UV scenes' reading; a planar 2D run, Cook's membrane,
 # reads the .msh).
+H5_FORMAT=aries-mesh-2  # fem/mesh_hdf5.cpp kMeshFormat
+h5_format() {
+  "$PY" -c 'import h5py,sys; v=h5py.File(sys.argv[1],"r").attrs.get("aries_mesh_format",b""); print(v.decode() if isinstance(v,bytes) else v)' "$1" 2>/dev/null || true
+}
+
 convert_h5() {
   local msh="$1" h5 aries json args=()
   h5="${msh%.msh}.h5"
   json="${msh%.msh}.json"
   aries="${ARIES_BIN:-$HERE/../build/aries}"
-  if [ -f "$h5" ] && [ "$h5" -nt "$msh" ]; then
+  if [ -f "$h5" ] && [ "$h5" -nt "$msh" ] && [ "$(h5_format "$h5")" = "$H5_FORMAT" ]; then
     echo "$h5"
     return 0
   fi

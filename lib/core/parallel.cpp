@@ -48,9 +48,6 @@ PetscErrorCode gatherOnRoot(MPI_Comm comm, const std::vector<double> &mine, std:
   PetscFunctionReturn(0);
 }
 
-namespace {
-
-// Block of natural id `id` among `size` ranks: the first total % size blocks hold one entry more.
 int blockOwner(PetscInt id, PetscInt total, int size) {
   const PetscInt base = total / size, extra = total % size;
   const PetscInt split = extra * (base + 1);
@@ -61,6 +58,8 @@ PetscInt blockBegin(int rank, PetscInt total, int size) {
   const PetscInt base = total / size, extra = total % size;
   return rank * base + std::min<PetscInt>(rank, extra);
 }
+
+namespace {
 
 // MPI_Alltoallv of `comps` doubles per entry (counts in entries).
 PetscErrorCode exchange(MPI_Comm comm, const std::vector<double> &send, const std::vector<int> &sendCounts,
@@ -82,7 +81,46 @@ PetscErrorCode exchange(MPI_Comm comm, const std::vector<double> &send, const st
 
 }  // namespace
 
-PetscErrorCode NaturalBlocks::setup(MPI_Comm comm, PetscInt total, const std::vector<PetscInt> &owned) {
+PetscErrorCode fetchFromBlocks(MPI_Comm comm, PetscInt total, const std::vector<double> &block, int comps,
+                               const std::vector<PetscInt> &ids, std::vector<double> *values) {
+  PetscMPIInt rank, size;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  const PetscInt start = blockBegin(rank, total, size), rows = blockBegin(rank + 1, total, size) - start;
+  PetscCheck(block.size() == static_cast<size_t>(rows) * comps, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+             "fetchFromBlocks: %d values for a block of %d x %d", (int)block.size(), (int)rows, comps);
+  // requests grouped by the rank holding them
+  std::vector<int> dest(ids.size()), sendCounts(size, 0), sendDispl(size, 0), recvCounts(size), recvDispl(size, 0);
+  for (size_t i = 0; i < ids.size(); ++i) {
+    PetscCheck(ids[i] >= 0 && ids[i] < total, PETSC_COMM_SELF, PETSC_ERR_PLIB, "natural id %d outside [0, %d)",
+               (int)ids[i], (int)total);
+    dest[i] = blockOwner(ids[i], total, size);
+    ++sendCounts[dest[i]];
+  }
+  for (int p = 1; p < size; ++p) sendDispl[p] = sendDispl[p - 1] + sendCounts[p - 1];
+  std::vector<size_t> order(ids.size());
+  std::vector<double> request(ids.size());  // ids travel as doubles (exact below 2^53)
+  std::vector<int> next(sendDispl);
+  for (size_t i = 0; i < ids.size(); ++i) {
+    order[next[dest[i]]] = i;
+    request[next[dest[i]]++] = static_cast<double>(ids[i]);
+  }
+  PetscCallMPI(MPI_Alltoall(sendCounts.data(), 1, MPI_INT, recvCounts.data(), 1, MPI_INT, comm));
+  for (int p = 1; p < size; ++p) recvDispl[p] = recvDispl[p - 1] + recvCounts[p - 1];
+  std::vector<double> asked(static_cast<size_t>(recvDispl[size - 1]) + recvCounts[size - 1]);
+  PetscCall(exchange(comm, request, sendCounts, sendDispl, &asked, recvCounts, recvDispl, 1));
+  std::vector<double> answer(asked.size() * comps), received(ids.size() * comps);
+  for (size_t k = 0; k < asked.size(); ++k)
+    std::copy_n(block.begin() + (static_cast<size_t>(asked[k]) - start) * comps, comps, answer.begin() + k * comps);
+  PetscCall(exchange(comm, answer, recvCounts, recvDispl, &received, sendCounts, sendDispl, comps));
+  values->assign(ids.size() * comps, 0.0);
+  for (size_t k = 0; k < ids.size(); ++k)
+    std::copy_n(received.begin() + k * comps, comps, values->begin() + order[k] * comps);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode NaturalBlocks::setupBlocks(MPI_Comm comm, PetscInt total) {
   PetscMPIInt rank, size;
   PetscFunctionBeginUser;
   comm_ = comm;
@@ -91,6 +129,14 @@ PetscErrorCode NaturalBlocks::setup(MPI_Comm comm, PetscInt total, const std::ve
   PetscCallMPI(MPI_Comm_size(comm, &size));
   blockStart_ = blockBegin(rank, total, size);
   blockSize_ = blockBegin(rank + 1, total, size) - blockStart_;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode NaturalBlocks::setup(MPI_Comm comm, PetscInt total, const std::vector<PetscInt> &owned) {
+  PetscMPIInt size;
+  PetscFunctionBeginUser;
+  PetscCall(setupBlocks(comm, total));
+  PetscCallMPI(MPI_Comm_size(comm, &size));
   std::vector<int> dest(owned.size());
   sendCounts_.assign(size, 0);
   for (size_t i = 0; i < owned.size(); ++i) {
@@ -128,6 +174,7 @@ PetscErrorCode NaturalBlocks::setup(MPI_Comm comm, PetscInt total, const std::ve
 
 PetscErrorCode NaturalBlocks::toBlocks(const std::vector<double> &owned, int comps, std::vector<double> *block) const {
   PetscFunctionBeginUser;
+  PetscCheck(!sendCounts_.empty(), PETSC_COMM_SELF, PETSC_ERR_PLIB, "toBlocks: blocks set up without an exchange");
   PetscCheck(owned.size() == sendOrder_.size() * comps, PETSC_COMM_SELF, PETSC_ERR_PLIB,
              "toBlocks: %d values for %d entries x %d", (int)owned.size(), (int)sendOrder_.size(), comps);
   std::vector<double> send(owned.size()), recv(recvRow_.size() * comps);
@@ -142,6 +189,7 @@ PetscErrorCode NaturalBlocks::toBlocks(const std::vector<double> &owned, int com
 
 PetscErrorCode NaturalBlocks::fromBlocks(const std::vector<double> &block, int comps, std::vector<double> *owned) const {
   PetscFunctionBeginUser;
+  PetscCheck(!sendCounts_.empty(), PETSC_COMM_SELF, PETSC_ERR_PLIB, "fromBlocks: blocks set up without an exchange");
   PetscCheck(block.size() == static_cast<size_t>(blockSize_) * comps, PETSC_COMM_SELF, PETSC_ERR_PLIB,
              "fromBlocks: %d values for a block of %d x %d", (int)block.size(), (int)blockSize_, comps);
   std::vector<double> send(recvRow_.size() * comps), recv(sendOrder_.size() * comps);

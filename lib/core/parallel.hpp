@@ -28,6 +28,18 @@ struct CentroidAccumulator {
 // Concatenates every rank's `mine` on rank 0, in rank order (`all` is empty elsewhere). Collective.
 PetscErrorCode gatherOnRoot(MPI_Comm comm, const std::vector<double> &mine, std::vector<double> *all);
 
+// The rank whose block (NaturalBlocks: `size` contiguous blocks, the first total % size one entry longer) holds
+// natural id `id`.
+int blockOwner(PetscInt id, PetscInt total, int size);
+// The first natural id of rank `rank`'s block (blockBegin(size, ...) == total).
+PetscInt blockBegin(int rank, PetscInt total, int size);
+
+// Collective: `values` receives, for each of `ids` (natural ids in [0, total), any order, repeats and ids wanted by
+// several ranks allowed), its `comps` values from `block`, the rows this rank holds of the blocked array (rank r's rows
+// are block r of NaturalBlocks' split of [0, total)). Two MPI_Alltoallv; no rank holds more than its block and its ids.
+PetscErrorCode fetchFromBlocks(MPI_Comm comm, PetscInt total, const std::vector<double> &block, int comps,
+                               const std::vector<PetscInt> &ids, std::vector<double> *values);
+
 // The natural numbering [0, total) of vertices or cells split into one contiguous block per rank (rank r holds
 // [start(r), start(r + 1)), sizes differing by at most one), and the exchange between the entries each rank owns
 // (natural ids in any order, each id owned by one rank) and those blocks. Output files are written block by block
@@ -37,6 +49,8 @@ class NaturalBlocks {
  public:
   // Collective: `owned` are the natural ids of the entries this rank will pass to toBlocks / receive from fromBlocks.
   PetscErrorCode setup(MPI_Comm comm, PetscInt total, const std::vector<PetscInt> &owned);
+  // The blocks alone (no exchange: toBlocks / fromBlocks refuse), for reading a file's rows block by block.
+  PetscErrorCode setupBlocks(MPI_Comm comm, PetscInt total);
   PetscInt total() const { return total_; }
   PetscInt blockStart() const { return blockStart_; }
   PetscInt blockSize() const { return blockSize_; }

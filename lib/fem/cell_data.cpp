@@ -16,9 +16,11 @@ PetscErrorCode DiscretizationT<R, C>::setupCellData(Mesh &mesh, const FemOptions
   PetscFunctionBeginUser;
   std::vector<double> fibers, fibers2;
   const bool hasFiberFile = !o.fiberFile.empty(), hasFiber2File = !o.fiber2File.empty();
-  if (hasFiberFile) PetscCall(readCellVectorFile(comm(), o.fiberFile, "-fiber_file", mesh.numCellsGlobal, C, &fibers));
+  if (hasFiberFile)  // per local cell
+    PetscCall(readCellVectorFile(comm(), o.fiberFile, "-fiber_file", mesh.numCellsGlobal, mesh.naturalCell, C, &fibers));
   if (hasFiber2File)
-    PetscCall(readCellVectorFile(comm(), o.fiber2File, "-fiber2_file", mesh.numCellsGlobal, C, &fibers2));
+    PetscCall(readCellVectorFile(comm(), o.fiber2File, "-fiber2_file", mesh.numCellsGlobal, mesh.naturalCell, C,
+                                 &fibers2));
   // Energies with a per-cell field (targets, curvature ratios) carry per-cell data.
   bool cellField = false;
   for (const auto &m : materials_) cellField = cellField || energies::energyCellField(m.kind) != energies::CellField::None;
@@ -31,9 +33,8 @@ PetscErrorCode DiscretizationT<R, C>::setupCellData(Mesh &mesh, const FemOptions
     data.resize(nc);
     for (size_t c = 0; c < nc; ++c) {
       energies::CellData<C> d = toCellData<C>(regionCells[cells_.cells()[c].region]);
-      const size_t nat = static_cast<size_t>(mesh.naturalCell[c]);
-      if (hasFiberFile) d.a = Eigen::Map<const kernels::Vec<C>>(&fibers[nat * C]);
-      if (hasFiber2File) d.b = Eigen::Map<const kernels::Vec<C>>(&fibers2[nat * C]);
+      if (hasFiberFile) d.a = Eigen::Map<const kernels::Vec<C>>(&fibers[c * C]);
+      if (hasFiber2File) d.b = Eigen::Map<const kernels::Vec<C>>(&fibers2[c * C]);
       data[c] = d;
     }
   }

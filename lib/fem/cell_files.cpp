@@ -1,8 +1,10 @@
 #include "fem/cell_files.hpp"
 
-#include "core/options.hpp"
 #include "core/errors.hpp"
+#include "core/options.hpp"
+#include "core/parallel.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -28,30 +30,25 @@ bool nextDataLine(std::istream &in, long *lineNo, std::string *line, std::vector
   return false;
 }
 
-// Rank 0's error (if any) becomes a collective error; otherwise rank 0's data reaches every rank (sized already).
-PetscErrorCode broadcastResult(MPI_Comm comm, std::string error, std::vector<double> *data) {
-  PetscMPIInt rank;
-  PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  int len = static_cast<int>(error.size());
-  PetscCallMPI(MPI_Bcast(&len, 1, MPI_INT, 0, comm));
-  error.resize(len);
-  PetscCallMPI(MPI_Bcast(error.data(), len, MPI_CHAR, 0, comm));
-  PetscCall(core::collectiveCheck(comm, !error.empty() && rank == 0, error));
-  PetscCallMPI(MPI_Bcast(data->data(), static_cast<int>(data->size()), MPI_DOUBLE, 0, comm));
-  PetscFunctionReturn(0);
+// This rank's block [start, start + rows) of the natural cell numbering (core::NaturalBlocks' split).
+void cellBlock(MPI_Comm comm, PetscInt numCells, PetscInt *start, PetscInt *rows) {
+  PetscMPIInt rank, size;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  *start = core::blockBegin(rank, numCells, size);
+  *rows = core::blockBegin(rank + 1, numCells, size) - *start;
 }
 
 }  // namespace
 
 PetscErrorCode readCellVectorFile(MPI_Comm comm, const std::string &file, const char *option, PetscInt numCells,
-                                  int comps, std::vector<double> *values) {
-  PetscMPIInt rank;
+                                  const std::vector<PetscInt> &cells, int comps, std::vector<double> *values) {
   std::string error;
+  PetscInt blockStart, blockRows;
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  values->assign(static_cast<size_t>(numCells) * comps, 0.0);
-  if (rank == 0) {
+  cellBlock(comm, numCells, &blockStart, &blockRows);
+  std::vector<double> block(static_cast<size_t>(blockRows) * comps, 0.0);
+  {
     std::ifstream in(file);
     std::ostringstream err;
     if (!in) {
@@ -97,7 +94,8 @@ PetscErrorCode readCellVectorFile(MPI_Comm comm, const std::string &file, const 
           err << option << " file '" << file << "' line " << lineNo << ": zero-length vector for cell " << cell;
           break;
         }
-        for (int k = 0; k < comps; ++k) (*values)[static_cast<size_t>(cell) * comps + k] = v[k] / std::sqrt(n2);
+        if (cell >= blockStart && cell < blockStart + blockRows)
+          for (int k = 0; k < comps; ++k) block[static_cast<size_t>(cell - blockStart) * comps + k] = v[k] / std::sqrt(n2);
         ++cell;
       }
       if (err.str().empty() && declared < 0) err << option << " file '" << file << "' is empty";
@@ -106,18 +104,20 @@ PetscErrorCode readCellVectorFile(MPI_Comm comm, const std::string &file, const 
     }
     error = err.str();
   }
-  PetscCall(broadcastResult(comm, error, values));
+  PetscCall(core::collectiveCheck(comm, !error.empty(), error));  // every rank parsed the same lines
+  PetscCall(core::fetchFromBlocks(comm, numCells, block, comps, cells, values));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode readTargetKeyframeFile(MPI_Comm comm, const std::string &file, PetscInt numCells, int comps,
-                                      std::vector<double> *times, std::vector<double> *targets) {
-  PetscMPIInt rank;
+PetscErrorCode readTargetKeyframeFile(MPI_Comm comm, const std::string &file, PetscInt numCells,
+                                      const std::vector<PetscInt> &cells, int comps, std::vector<double> *times,
+                                      std::vector<double> *targets) {
   std::string error;
-  std::vector<double> data;  // rank 0: K, then K times, then the targets
+  PetscInt blockStart, blockRows;
+  std::vector<double> block;  // this rank's cells: row (cell - blockStart) holds K x comps values
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (rank == 0) {
+  cellBlock(comm, numCells, &blockStart, &blockRows);
+  {
     std::ifstream in(file);
     std::ostringstream err;
     const std::string where = "-target_file '" + file + "'";
@@ -125,7 +125,7 @@ PetscErrorCode readTargetKeyframeFile(MPI_Comm comm, const std::string &file, Pe
     std::string line;
     std::vector<std::string> tok;
     long lineNo = 0, keys = -1, key = -1, cell = 0;
-    std::vector<double> ts, vals;
+    std::vector<double> ts;
     while (err.str().empty() && nextDataLine(in, &lineNo, &line, &tok)) {
       double a = 0, b = 0;
       if (keys < 0) {
@@ -136,6 +136,7 @@ PetscErrorCode readTargetKeyframeFile(MPI_Comm comm, const std::string &file, Pe
           err << where << " declares " << static_cast<long>(a) << " cells but the mesh has " << numCells;
         }
         keys = static_cast<long>(b);
+        if (err.str().empty()) block.assign(static_cast<size_t>(blockRows) * keys * comps, 0.0);
         continue;
       }
       if (tok.size() == 2 && tok[0] == "time") {
@@ -163,12 +164,13 @@ PetscErrorCode readTargetKeyframeFile(MPI_Comm comm, const std::string &file, Pe
         err << where << " line " << lineNo << ": expected " << comps << " numbers (" << (comps == 6 ? "s11 s22 s33 s12 s23 s13" : "s11 s22 s12")
             << "), got " << tok.size();
       } else {
-        for (const auto &x : tok) {
-          if (!parseReal(x, &a) || !std::isfinite(a)) {
-            err << where << " line " << lineNo << ": not a finite number: '" << x << "'";
+        const bool mine = cell >= blockStart && cell < blockStart + blockRows;
+        for (int k = 0; k < comps; ++k) {
+          if (!parseReal(tok[k], &a) || !std::isfinite(a)) {
+            err << where << " line " << lineNo << ": not a finite number: '" << tok[k] << "'";
             break;
           }
-          vals.push_back(a);
+          if (mine) block[(static_cast<size_t>(cell - blockStart) * keys + key) * comps + k] = a;
         }
         ++cell;
       }
@@ -178,19 +180,17 @@ PetscErrorCode readTargetKeyframeFile(MPI_Comm comm, const std::string &file, Pe
       err << where << " ends early: " << key + 1 << " of " << keys << " keyframes, the last with " << cell << " of "
           << numCells << " targets";
     error = err.str();
-    if (error.empty()) {
-      data.push_back(static_cast<double>(keys));
-      data.insert(data.end(), ts.begin(), ts.end());
-      data.insert(data.end(), vals.begin(), vals.end());
-    }
+    *times = ts;
   }
-  long n = static_cast<long>(data.size());
-  PetscCallMPI(MPI_Bcast(&n, 1, MPI_LONG, 0, comm));
-  data.resize(n);
-  PetscCall(broadcastResult(comm, error, &data));
-  const long keys = static_cast<long>(data[0]);
-  times->assign(data.begin() + 1, data.begin() + 1 + keys);
-  targets->assign(data.begin() + 1 + keys, data.end());
+  PetscCall(core::collectiveCheck(comm, !error.empty(), error));  // every rank parsed the same lines
+  const int keys = static_cast<int>(times->size());
+  std::vector<double> local;  // per local cell: K x comps
+  PetscCall(core::fetchFromBlocks(comm, numCells, block, keys * comps, cells, &local));
+  const size_t nc = cells.size();
+  targets->assign(static_cast<size_t>(keys) * nc * comps, 0.0);
+  for (size_t c = 0; c < nc; ++c)
+    for (int k = 0; k < keys; ++k)
+      std::copy_n(&local[(c * keys + k) * comps], comps, &(*targets)[(k * nc + c) * comps]);
   PetscFunctionReturn(0);
 }
 

@@ -19,13 +19,16 @@
 
 namespace aries::fem {
 
-// Reads on rank 0, validates, broadcasts `numCells * comps` values (unit vectors) to every rank. Collective.
+// Every rank reads and validates the whole file (the same first error everywhere) but keeps only the lines of its
+// block of the natural cell numbering; `values` then receives `comps` values (unit vectors) for each natural cell id of
+// `cells` (this rank's local cells) from the ranks holding them. No rank holds a whole-mesh array. Collective.
 PetscErrorCode readCellVectorFile(MPI_Comm comm, const std::string &file, const char *option, PetscInt numCells,
-                                  int comps, std::vector<double> *values);
+                                  const std::vector<PetscInt> &cells, int comps, std::vector<double> *values);
 
-// Reads a keyframe file on rank 0, validates it, broadcasts it: `times` (K) and `targets` (K x numCells x comps,
-// comps = 6 for 3x3, 3 for 2x2 targets, in the order of the file). Collective.
-PetscErrorCode readTargetKeyframeFile(MPI_Comm comm, const std::string &file, PetscInt numCells, int comps,
-                                      std::vector<double> *times, std::vector<double> *targets);
+// A keyframe file, read the same way: `times` (K) and `targets` (K x cells.size() x comps: keyframe k of local cell c
+// at (k * cells.size() + c) * comps; comps = 6 for 3x3, 3 for 2x2 targets, in the order of the file). Collective.
+PetscErrorCode readTargetKeyframeFile(MPI_Comm comm, const std::string &file, PetscInt numCells,
+                                      const std::vector<PetscInt> &cells, int comps, std::vector<double> *times,
+                                      std::vector<double> *targets);
 
 }  // namespace aries::fem

@@ -31,8 +31,8 @@ inline constexpr OptionDecl partitioner =
         .otherwise("metis for a .msh mesh, rcb for an .h5 mesh");
 inline constexpr OptionDecl meshConvert =
     textOption("-mesh_convert", "FILE.h5",
-               "write the gmsh mesh -dm_plex_filename (its physical groups, regions and numbering) in PETSc's DMPlex "
-               "HDF5 format and stop; -dm_plex_filename FILE.h5 then reads it on all ranks in parallel");
+               "write the gmsh mesh -dm_plex_filename (its cells, vertices, physical groups and regions, in gmsh "
+               "numbering) as an HDF5 mesh and stop; -dm_plex_filename FILE.h5 then reads it on all ranks in parallel");
 inline constexpr OptionDecl gmshSpaceDim =
     intOption("-dm_plex_gmsh_spacedim", "D",
               "PETSc's: 3 keeps z for triangle meshes (cloth, -uv_map); read in 2D, a triangle surface whose z is not "

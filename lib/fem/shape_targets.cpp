@@ -38,14 +38,8 @@ PetscErrorCode TargetField::read(const Mesh &mesh, int dim, bool uniformTargetGi
               along_, across_);
     source_ = Source::Activation;
   } else if (hasFile) {
-    std::vector<double> all;
-    PetscCall(readTargetKeyframeFile(comm, file, mesh.numCellsGlobal, comps_, &times_, &all));
+    PetscCall(readTargetKeyframeFile(comm, file, mesh.numCellsGlobal, mesh.naturalCell, comps_, &times_, &local_));
     ncells_ = static_cast<size_t>(mesh.cEnd - mesh.cStart);
-    local_.resize(times_.size() * ncells_ * comps_);
-    for (size_t k = 0; k < times_.size(); ++k)
-      for (size_t c = 0; c < ncells_; ++c)
-        std::copy_n(&all[(k * mesh.numCellsGlobal + mesh.naturalCell[c]) * comps_], comps_,
-                    &local_[(k * ncells_ + c) * comps_]);
     source_ = Source::Keyframes;
   }
   PetscFunctionReturn(0);

@@ -5,7 +5,7 @@
 #include "io/io_options.hpp"
 #include "io/files.hpp"
 #include "io/h5_attributes.hpp"
-#include "io/h5_blocks.hpp"
+#include "core/h5_blocks.hpp"
 
 #include <hdf5.h>
 
@@ -57,9 +57,9 @@ PetscErrorCode writeCheckpoint(const solver::Simulation &sim, const core::Natura
   const long long step = sim.completedSteps(), nv = static_cast<long long>(vertices.total()),
                   nc = static_cast<long long>(disc.mesh().numCellsGlobal);
   const double time = sim.time(), load = disc.load();
-  hid_t f = dirOk ? createParallelFile(comm, tmp) : -1;
-  bool ok = f >= 0 && writeBlockDataset(f, "/positions", vertices, positions, 3) &&
-            writeBlockDataset(f, "/velocities", vertices, velocities, 3) &&
+  hid_t f = dirOk ? core::createParallelFile(comm, tmp) : -1;
+  bool ok = f >= 0 && core::writeBlockDataset(f, "/positions", vertices, positions, 3) &&
+            core::writeBlockDataset(f, "/velocities", vertices, velocities, 3) &&
             writeScalarAttribute(f, "step", H5T_NATIVE_LLONG, step) &&
             writeScalarAttribute(f, "time", H5T_NATIVE_DOUBLE, time) &&
             writeScalarAttribute(f, "load", H5T_NATIVE_DOUBLE, load) &&
@@ -132,9 +132,9 @@ PetscErrorCode readCheckpoint(const fem::Discretization &disc, const std::string
   void *data;
   H5Eget_auto2(H5E_DEFAULT, &func, &data);
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  hid_t f = openParallelFile(comm, path);
-  bool ok = f >= 0 && readBlockDataset(f, "/positions", vertices, 3, &positions) &&
-            readBlockDataset(f, "/velocities", vertices, 3, &velocities);
+  hid_t f = core::openParallelFile(comm, path);
+  bool ok = f >= 0 && core::readBlockDataset(f, "/positions", vertices, 3, &positions) &&
+            core::readBlockDataset(f, "/velocities", vertices, 3, &velocities);
   if (f >= 0) H5Fclose(f);
   H5Eset_auto2(H5E_DEFAULT, func, data);
   PetscCall(core::collectiveCheck(comm, !ok, "checkpoint '" + path + "' has missing or malformed /positions or /velocities"));

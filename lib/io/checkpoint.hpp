@@ -1,5 +1,5 @@
 // Checkpoint / restart (-checkpoint_every K, -checkpoint FILE, -restart FILE).
-// A checkpoint is one HDF5 file (written and read in parallel, io/h5_blocks.hpp) with the state in natural (gmsh) vertex
+// A checkpoint is one HDF5 file (written and read in parallel, core/h5_blocks.hpp) with the state in natural (gmsh) vertex
 // order: /positions and /velocities
 // (vertices x 3), and the attributes step, time, load (parameter of the prescribed motion), num_vertices, num_cells,
 // format. It is written under a temporary name and renamed when complete, so a run killed at any moment leaves the

@@ -1,35 +1,15 @@
-// HDF5 attributes shared by the writers and readers: scalar numeric and string attributes, and the aries version and git commit that every
-// file aries writes carries (attributes aries_version, aries_commit on the root group).
+// The aries version and git commit that every file aries writes carries (attributes aries_version, aries_commit on
+// the root group); the attribute helpers themselves are core's (core/h5_attributes.hpp).
 #pragma once
 
-#include <hdf5.h>
-
-#include <string>
+#include "core/h5_attributes.hpp"
 
 namespace aries::io {
 
-bool writeStringAttribute(hid_t object, const char *name, const std::string &value);
+using core::readScalarAttribute;
+using core::writeScalarAttribute;
+using core::writeStringAttribute;
+
 bool writeVersionAttributes(hid_t file);
-
-// A scalar numeric attribute (type: the HDF5 memory type of T, e.g. H5T_NATIVE_DOUBLE).
-template <class T>
-bool writeScalarAttribute(hid_t object, const char *name, hid_t type, const T &value) {
-  hid_t space = H5Screate(H5S_SCALAR);
-  hid_t a = H5Acreate2(object, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
-  const bool ok = a >= 0 && H5Awrite(a, type, &value) >= 0;
-  if (a >= 0) H5Aclose(a);
-  H5Sclose(space);
-  return ok;
-}
-
-// False (value untouched) if the attribute is missing or unreadable.
-template <class T>
-bool readScalarAttribute(hid_t object, const char *name, hid_t type, T *value) {
-  if (H5Aexists(object, name) <= 0) return false;
-  hid_t a = H5Aopen(object, name, H5P_DEFAULT);
-  const bool ok = a >= 0 && H5Aread(a, type, value) >= 0;
-  if (a >= 0) H5Aclose(a);
-  return ok;
-}
 
 }  // namespace aries::io

@@ -3,7 +3,7 @@
 #include "core/errors.hpp"
 #include "io/files.hpp"
 #include "io/h5_attributes.hpp"
-#include "io/h5_blocks.hpp"
+#include "core/h5_blocks.hpp"
 
 #include <hdf5.h>
 
@@ -53,9 +53,9 @@ PetscErrorCode XdmfWriter::open(MPI_Comm comm, const std::string &base, const co
     err = "cannot create output directory '" + dir_ + "/" + name_ + ".steps' (-output)";
   PetscCall(core::collectiveCheck(comm, !err.empty(), err));
   const std::string tmp = base + ".h5.tmp";
-  hid_t f = createParallelFile(comm, tmp);
-  bool ok = f >= 0 && writeBlockIntDataset(f, "/mesh/topology", cells, topologyIds, verticesPerCell) &&
-            writeBlockDataset(f, "/mesh/rest", vertices, restBlock_, 3) && writeVersionAttributes(f);
+  hid_t f = core::createParallelFile(comm, tmp);
+  bool ok = f >= 0 && core::writeBlockIntDataset(f, "/mesh/topology", cells, topologyIds, verticesPerCell) &&
+            core::writeBlockDataset(f, "/mesh/rest", vertices, restBlock_, 3) && writeVersionAttributes(f);
   if (f >= 0) ok = H5Fclose(f) >= 0 && ok;
   int good = ok, allGood = 0;
   PetscCallMPI(MPI_Allreduce(&good, &allGood, 1, MPI_INT, MPI_MIN, comm));
@@ -87,9 +87,9 @@ PetscErrorCode XdmfWriter::beginStep(PetscInt step, double time, const std::vect
   PetscCall(vertices_->toBlocks(positions, 3, &block));
   disp.resize(block.size());
   for (size_t i = 0; i < block.size(); ++i) disp[i] = block[i] - restBlock_[i];
-  open_.file = createParallelFile(comm_, dir_ + "/" + open_.name + ".tmp");
-  open_.ok = open_.file >= 0 && writeBlockDataset(open_.file, "/positions", *vertices_, block, 3) &&
-             writeBlockDataset(open_.file, "/displacement", *vertices_, disp, 3) && writeVersionAttributes(open_.file);
+  open_.file = core::createParallelFile(comm_, dir_ + "/" + open_.name + ".tmp");
+  open_.ok = open_.file >= 0 && core::writeBlockDataset(open_.file, "/positions", *vertices_, block, 3) &&
+             core::writeBlockDataset(open_.file, "/displacement", *vertices_, disp, 3) && writeVersionAttributes(open_.file);
   // the step's time, for restarts (the index is rebuilt from the step files)
   open_.ok = open_.ok && writeScalarAttribute(open_.file, "time", H5T_NATIVE_DOUBLE, time);
   cellFieldLayout_.clear();
@@ -102,7 +102,7 @@ PetscErrorCode XdmfWriter::writeField(const CellField &field, bool perCell) {
   const core::NaturalBlocks &layout = perCell ? *cells_ : *vertices_;
   std::vector<double> block;
   PetscCall(layout.toBlocks(field.values, field.components, &block));
-  open_.ok = open_.ok && writeBlockDataset(open_.file, (perCell ? "/cell/" : "/vertex/") + field.name, layout, block,
+  open_.ok = open_.ok && core::writeBlockDataset(open_.file, (perCell ? "/cell/" : "/vertex/") + field.name, layout, block,
                                            field.components);
   (perCell ? cellFieldLayout_ : vertexFieldLayout_).emplace_back(field.name, field.components);
   PetscFunctionReturn(0);

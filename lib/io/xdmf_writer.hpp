@@ -5,7 +5,7 @@
 //   DIR/NAME.xmf                temporal collection over the steps written so far
 // Every file is written under a temporary name and renamed when complete, and the .xmf is rewritten after each
 // step, so a run killed at any moment leaves the last complete step readable. Datasets are in natural (gmsh) order and
-// written collectively, each rank its block of rows (io/h5_blocks.hpp): identical files for any number of ranks, and no
+// written collectively, each rank its block of rows (core/h5_blocks.hpp): identical files for any number of ranks, and no
 // rank holds more than its block of any of them.
 #pragma once
 

@@ -191,7 +191,10 @@ int main(int argc, char **argv) {
       const std::string text = fz.vectorFile(&numCells), path = dir + "/f.txt";
       std::ofstream(path) << text;
       std::vector<double> values;
-      report(2, fem::readCellVectorFile(PETSC_COMM_WORLD, path, "-fiber_file", numCells, 1 + fz.pick(3), &values), text);
+      std::vector<PetscInt> cells(numCells > 0 ? numCells : 0);  // every cell on this (single) rank
+      for (size_t c = 0; c < cells.size(); ++c) cells[c] = static_cast<PetscInt>(c);
+      report(2, fem::readCellVectorFile(PETSC_COMM_WORLD, path, "-fiber_file", numCells, cells, 1 + fz.pick(3), &values),
+             text);
     }
   }
   PetscOptionsClear(nullptr);

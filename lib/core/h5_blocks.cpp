@@ -1,6 +1,6 @@
-#include "io/h5_blocks.hpp"
+#include "core/h5_blocks.hpp"
 
-namespace aries::io {
+namespace aries::core {
 
 namespace {
 
@@ -16,7 +16,7 @@ hid_t mpioAccess(MPI_Comm comm) {
 // The file and memory dataspaces of this rank's block of a total x comps dataset.
 struct BlockSpaces {
   hid_t file = -1, memory = -1;
-  BlockSpaces(hid_t fileSpace, const core::NaturalBlocks &layout, int comps) : file(H5Scopy(fileSpace)) {
+  BlockSpaces(hid_t fileSpace, const NaturalBlocks &layout, int comps) : file(H5Scopy(fileSpace)) {
     const hsize_t start[2] = {static_cast<hsize_t>(layout.blockStart()), 0};
     const hsize_t count[2] = {static_cast<hsize_t>(layout.blockSize()), static_cast<hsize_t>(comps)};
     const int rank = comps > 1 ? 2 : 1;
@@ -43,7 +43,7 @@ hid_t collectiveTransfer(hid_t file) {
   return dxpl;
 }
 
-bool writeBlock(hid_t file, const std::string &name, const core::NaturalBlocks &layout, const void *block, int comps,
+bool writeBlock(hid_t file, const std::string &name, const NaturalBlocks &layout, const void *block, int comps,
                 hid_t memType, hid_t fileType) {
   const hsize_t dims[2] = {static_cast<hsize_t>(layout.total()), static_cast<hsize_t>(comps)};
   hid_t space = H5Screate_simple(comps > 1 ? 2 : 1, dims, nullptr);
@@ -51,13 +51,14 @@ bool writeBlock(hid_t file, const std::string &name, const core::NaturalBlocks &
   H5Pset_create_intermediate_group(lcpl, 1);
   hid_t dset = H5Dcreate2(file, name.c_str(), fileType, space, lcpl, H5P_DEFAULT, H5P_DEFAULT);
   bool ok = dset >= 0;
-  if (ok) {
+  if (ok && layout.total() > 0) {  // an empty dataset has nothing to write (HDF5 refuses empty transfers)
     BlockSpaces spaces(space, layout, comps);
     hid_t dxpl = collectiveTransfer(file);
     ok = H5Dwrite(dset, memType, spaces.memory, spaces.file, dxpl, block) >= 0;
     H5Pclose(dxpl);
     H5Dclose(dset);
   }
+  if (dset >= 0 && layout.total() == 0) H5Dclose(dset);
   H5Pclose(lcpl);
   H5Sclose(space);
   return ok;
@@ -79,20 +80,22 @@ hid_t openParallelFile(MPI_Comm comm, const std::string &path) {
   return f;
 }
 
-bool writeBlockDataset(hid_t file, const std::string &name, const core::NaturalBlocks &layout,
+bool writeBlockDataset(hid_t file, const std::string &name, const NaturalBlocks &layout,
                        const std::vector<double> &block, int comps) {
   return block.size() == static_cast<size_t>(layout.blockSize()) * comps &&
          writeBlock(file, name, layout, block.data(), comps, H5T_NATIVE_DOUBLE, H5T_NATIVE_DOUBLE);
 }
 
-bool writeBlockIntDataset(hid_t file, const std::string &name, const core::NaturalBlocks &layout,
+bool writeBlockIntDataset(hid_t file, const std::string &name, const NaturalBlocks &layout,
                           const std::vector<long long> &block, int comps) {
   return block.size() == static_cast<size_t>(layout.blockSize()) * comps &&
          writeBlock(file, name, layout, block.data(), comps, H5T_NATIVE_LLONG, H5T_NATIVE_LLONG);
 }
 
-bool readBlockDataset(hid_t file, const std::string &name, const core::NaturalBlocks &layout, int comps,
-                      std::vector<double> *block) {
+namespace {
+
+bool readBlock(hid_t file, const std::string &name, const NaturalBlocks &layout, int comps, void *block,
+               hid_t memType) {
   if (H5Lexists(file, name.c_str(), H5P_DEFAULT) <= 0) return false;
   hid_t dset = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
   if (dset < 0) return false;
@@ -101,11 +104,10 @@ bool readBlockDataset(hid_t file, const std::string &name, const core::NaturalBl
   const int nd = H5Sget_simple_extent_dims(space, dims, nullptr);
   bool ok = nd == (comps > 1 ? 2 : 1) && dims[0] == static_cast<hsize_t>(layout.total()) &&
             (comps == 1 || dims[1] == static_cast<hsize_t>(comps));
-  if (ok) {
-    block->assign(static_cast<size_t>(layout.blockSize()) * comps, 0.0);
+  if (ok && layout.total() > 0) {
     BlockSpaces spaces(space, layout, comps);
     hid_t dxpl = collectiveTransfer(file);
-    ok = H5Dread(dset, H5T_NATIVE_DOUBLE, spaces.memory, spaces.file, dxpl, block->data()) >= 0;
+    ok = H5Dread(dset, memType, spaces.memory, spaces.file, dxpl, block) >= 0;
     H5Pclose(dxpl);
   }
   H5Sclose(space);
@@ -113,4 +115,30 @@ bool readBlockDataset(hid_t file, const std::string &name, const core::NaturalBl
   return ok;
 }
 
-}  // namespace aries::io
+}  // namespace
+
+bool readBlockDataset(hid_t file, const std::string &name, const NaturalBlocks &layout, int comps,
+                      std::vector<double> *block) {
+  block->assign(static_cast<size_t>(layout.blockSize()) * comps, 0.0);
+  return readBlock(file, name, layout, comps, block->data(), H5T_NATIVE_DOUBLE);
+}
+
+bool readBlockIntDataset(hid_t file, const std::string &name, const NaturalBlocks &layout, int comps,
+                         std::vector<long long> *block) {
+  block->assign(static_cast<size_t>(layout.blockSize()) * comps, 0);
+  return readBlock(file, name, layout, comps, block->data(), H5T_NATIVE_LLONG);
+}
+
+long long datasetRows(hid_t file, const std::string &name) {
+  if (H5Lexists(file, name.c_str(), H5P_DEFAULT) <= 0) return -1;
+  hid_t dset = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
+  if (dset < 0) return -1;
+  hid_t space = H5Dget_space(dset);
+  hsize_t dims[2] = {0, 0};
+  const int nd = H5Sget_simple_extent_dims(space, dims, nullptr);
+  H5Sclose(space);
+  H5Dclose(dset);
+  return nd >= 1 ? static_cast<long long>(dims[0]) : -1;
+}
+
+}  // namespace aries::core
