@@ -40,8 +40,12 @@ bool readLater(const std::string &name) {
          name == "help";
 }
 
-// Options of the detached start's own solver (prefix detached_) are read when that phase begins, after setup.
-bool readInRun(const std::string &name) { return name.rfind("detached_", 0) == 0; }
+// Options of the detached start's own solver (prefix detached_) are read when that phase begins, after setup; a
+// multigrid's level and coarse solvers' options (mg_levels_, mg_coarse_) when its hierarchy is first built.
+bool readInRun(const std::string &name) {
+  return name.rfind("detached_", 0) == 0 || name.find("mg_levels_") != std::string::npos ||
+         name.find("mg_coarse_") != std::string::npos;
+}
 
 // Options given but not read (so far): a misspelled option would otherwise run silently with its default. After
 // setup the options read in the run are not reported yet; at the end `onlyInRun` reports just those (the rest
