@@ -213,10 +213,11 @@ def case_report():
                   "layout, files), output time and every rank's peak resident memory (with many ranks: min, median, "
                   "max and rank 0's). The machine column names where each run ran; rows of a lent 16-core machine ran "
                   "the same aries binary there, with this machine's Debian runtime carried along.", "",
-                  "| machine | input | ranks | setup s | output s | peak RSS per rank MB |", "|---|---|---|---|---|---|"]
+                  "| machine | aries | input | ranks | setup s | output s | peak RSS per rank MB |",
+                  "|---|---|---|---|---|---|---|"]
         for k, r in sorted(io, key=lambda kv: (kv[1]["machine"], kv[0].split("_")[2], kv[1]["ranks"])):
-            lines.append("| %s | %s | %d | %.1f | %.1f | %s |" % (r["machine"], k.split("_")[2], r["ranks"], r["setup"],
-                                                                  r["output"], r["rss"]))
+            lines.append("| %s | %s | %s | %d | %.1f | %.1f | %s |" % (r["machine"], r["commit"][:7], k.split("_")[2],
+                                                                       r["ranks"], r["setup"], r["output"], r["rss"]))
         lines.append("")
     fig, axes = plt.subplots(1, 2, figsize=(11, 4))
     for ax, scene in zip(axes, ("static", "dynamic")):
@@ -224,15 +225,16 @@ def case_report():
         if not rows:
             continue
         lines += ["## Linear solvers, %s compression of the cube (2 ranks)" % scene, "",
-                  "| tets | DoFs | preconditioner | Newton/step | PCG/Newton | steps s | of it linear solves s | "
-                  "s/Newton |", "|---|---|---|---|---|---|---|---|"]
+                  "| tets | DoFs | preconditioner | aries | Newton/step | PCG/Newton | steps s | of it linear solves s | "
+                  "s/Newton |", "|---|---|---|---|---|---|---|---|---|"]
         series = {}
         for k, r in sorted(rows, key=lambda kv: (kv[1]["dofs"], kv[0])):
             solver = {"gamg_rule": "gamg"}.get("_".join(k.split("_")[3:-1]), "_".join(k.split("_")[3:-1]))
             newton_total = max(r["newton"] * r["nsteps"], 1e-9)
             label = solver + (" (rule)" if r["gamg_by_rule"] else "")
-            lines.append("| %d | %d | %s%s | %.1f | %.0f | %.1f | %.1f | %.2f |" % (
+            lines.append("| %d | %d | %s%s | %s | %.1f | %.0f | %.1f | %.1f | %.2f |" % (
                 r["cells"], r["dofs"], label, " (%d unconverged)" % r["unconverged"] if r["unconverged"] else "",
+                r["commit"][:7],
                 r["newton"], r["pcg"] / max(r["newton"], 1e-9), r["steps"], r["steps"] - r["evaluations"],
                 r["steps"] / newton_total))
             series.setdefault(solver, []).append((r["dofs"], r["steps"] / newton_total))
