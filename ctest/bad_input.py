@@ -81,6 +81,16 @@ def plain_hdf5(name):
     return path
 
 
+def old_format_mesh(name):
+    """An HDF5 file that says it is a mesh of an older aries format (PETSc's own layout, aries-mesh-1)."""
+    import h5py
+    path = os.path.join(ARGS.work, name)
+    with h5py.File(path, "w") as f:
+        f.attrs["aries_mesh_format"] = "aries-mesh-1"
+        f["topology/cells"] = [0, 1, 2, 3]
+    return path
+
+
 def converted_mesh():
     """good.msh converted by the aries under test (-mesh_convert), on one rank."""
     out = os.path.join(ARGS.work, "good.h5")
@@ -204,6 +214,9 @@ def case_defs():
     d["h5_mesh_not_converted"] = (lambda: ["-dm_plex_filename", plain_hdf5("plain.h5")],
                                   r"plain\.h5' \(-dm_plex_filename\) is an HDF5 file but not a mesh converted by aries "
                                   r"\(make one with aries -dm_plex_filename MESH\.msh -mesh_convert")
+    d["h5_mesh_old_format"] = (lambda: ["-dm_plex_filename", old_format_mesh("old.h5")],
+                               r"mesh '.*old\.h5' \(-dm_plex_filename\) was converted by an older aries \(format "
+                               r"aries-mesh-1, this one reads aries-mesh-2\); convert it again with -mesh_convert")
     d["h5_mesh_metis"] = (lambda: ["-dm_plex_filename", converted_mesh(), "-partitioner", "metis"],
                           r"option -partitioner metis: METIS partitions the whole mesh on rank 0, but '.*good\.h5' is "
                           r"read in parallel")

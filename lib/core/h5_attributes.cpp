@@ -19,8 +19,17 @@ bool readStringAttribute(hid_t object, const char *name, std::string *value) {
   hid_t a = H5Aopen(object, name, H5P_DEFAULT);
   if (a < 0) return false;
   hid_t type = H5Aget_type(a);
-  bool ok = H5Tget_class(type) == H5T_STRING && !H5Tis_variable_str(type);
-  if (ok) {
+  bool ok = H5Tget_class(type) == H5T_STRING;
+  if (ok && H5Tis_variable_str(type) > 0) {  // as h5py and others write them
+    hid_t memType = H5Tcopy(H5T_C_S1);
+    H5Tset_size(memType, H5T_VARIABLE);
+    H5Tset_cset(memType, H5Tget_cset(type));  // HDF5 converts no character sets (ASCII vs UTF-8)
+    char *text = nullptr;
+    ok = H5Aread(a, memType, &text) >= 0 && text;
+    if (ok) *value = text;
+    if (text) H5free_memory(text);
+    H5Tclose(memType);
+  } else if (ok) {
     std::string buf(H5Tget_size(type), '\0');
     ok = H5Aread(a, type, buf.data()) >= 0;
     if (ok) *value = buf.c_str();
