@@ -34,6 +34,29 @@ int blockOwner(PetscInt id, PetscInt total, int size);
 // The first natural id of rank `rank`'s block (blockBegin(size, ...) == total).
 PetscInt blockBegin(int rank, PetscInt total, int size);
 
+// The exchange in which row i of a rank's list goes to rank dest[i] (any ranks, any number of rows per rank), set up
+// once (one MPI_Alltoall of counts). forward: the list's rows -> the rows this rank receives, grouped by source rank in
+// rank order (each source's rows in its list order); backward: one reply row per received row -> the replies at their
+// rows' places in the list. Each move is one MPI_Alltoallv; T is double or long long.
+class RowRoute {
+ public:
+  PetscErrorCode setup(MPI_Comm comm, const std::vector<int> &dest);  // collective
+  bool ready() const { return !sendCounts_.empty(); }
+  size_t numSent() const { return order_.size(); }
+  size_t numReceived() const { return numReceived_; }
+  template <class T>
+  PetscErrorCode forward(const std::vector<T> &rows, int comps, std::vector<T> *received) const;
+  template <class T>
+  PetscErrorCode backward(const std::vector<T> &replies, int comps, std::vector<T> *rows) const;
+
+ private:
+  MPI_Comm comm_ = MPI_COMM_NULL;
+  std::vector<size_t> order_;                // list row of each send slot (slots sorted by destination rank)
+  std::vector<int> sendCounts_, sendDispl_;  // rows per destination rank
+  std::vector<int> recvCounts_, recvDispl_;  // rows per source rank
+  size_t numReceived_ = 0;
+};
+
 // Collective: `values` receives, for each of `ids` (natural ids in [0, total), any order, repeats and ids wanted by
 // several ranks allowed), its `comps` values from `block`, the rows this rank holds of the blocked array (rank r's rows
 // are block r of NaturalBlocks' split of [0, total)). Two MPI_Alltoallv; no rank holds more than its block and its ids.
@@ -54,7 +77,7 @@ class NaturalBlocks {
   PetscInt total() const { return total_; }
   PetscInt blockStart() const { return blockStart_; }
   PetscInt blockSize() const { return blockSize_; }
-  size_t numOwned() const { return sendOrder_.size(); }
+  size_t numOwned() const { return route_.numSent(); }
   // Collective: `owned` holds `comps` values per owned entry (setup's order); `block` receives blockSize() * comps
   // values, row i the entry of natural id blockStart() + i. Every id of the block must be owned by some rank.
   PetscErrorCode toBlocks(const std::vector<double> &owned, int comps, std::vector<double> *block) const;
@@ -62,12 +85,9 @@ class NaturalBlocks {
   PetscErrorCode fromBlocks(const std::vector<double> &block, int comps, std::vector<double> *owned) const;
 
  private:
-  MPI_Comm comm_ = MPI_COMM_NULL;
   PetscInt total_ = 0, blockStart_ = 0, blockSize_ = 0;
-  std::vector<size_t> sendOrder_;            // owned entry of each send slot (sorted by destination rank)
-  std::vector<int> sendCounts_, sendDispl_;  // entries per destination rank
-  std::vector<int> recvCounts_, recvDispl_;  // entries per source rank
-  std::vector<PetscInt> recvRow_;            // block row of each received entry
+  RowRoute route_;                 // owned entries -> the ranks whose blocks hold them
+  std::vector<PetscInt> recvRow_;  // block row of each received entry
 };
 
 }  // namespace aries::core

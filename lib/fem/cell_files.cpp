@@ -30,23 +30,15 @@ bool nextDataLine(std::istream &in, long *lineNo, std::string *line, std::vector
   return false;
 }
 
-// This rank's block [start, start + rows) of the natural cell numbering (core::NaturalBlocks' split).
-void cellBlock(MPI_Comm comm, PetscInt numCells, PetscInt *start, PetscInt *rows) {
-  PetscMPIInt rank, size;
-  MPI_Comm_rank(comm, &rank);
-  MPI_Comm_size(comm, &size);
-  *start = core::blockBegin(rank, numCells, size);
-  *rows = core::blockBegin(rank + 1, numCells, size) - *start;
-}
-
 }  // namespace
 
 PetscErrorCode readCellVectorFile(MPI_Comm comm, const std::string &file, const char *option, PetscInt numCells,
                                   const std::vector<PetscInt> &cells, int comps, std::vector<double> *values) {
   std::string error;
-  PetscInt blockStart, blockRows;
+  core::NaturalBlocks cellBlocks;
   PetscFunctionBeginUser;
-  cellBlock(comm, numCells, &blockStart, &blockRows);
+  PetscCall(cellBlocks.setupBlocks(comm, numCells));
+  const PetscInt blockStart = cellBlocks.blockStart(), blockRows = cellBlocks.blockSize();
   std::vector<double> block(static_cast<size_t>(blockRows) * comps, 0.0);
   {
     std::ifstream in(file);
@@ -113,10 +105,11 @@ PetscErrorCode readTargetKeyframeFile(MPI_Comm comm, const std::string &file, Pe
                                       const std::vector<PetscInt> &cells, int comps, std::vector<double> *times,
                                       std::vector<double> *targets) {
   std::string error;
-  PetscInt blockStart, blockRows;
+  core::NaturalBlocks cellBlocks;
   std::vector<double> block;  // this rank's cells: row (cell - blockStart) holds K x comps values
   PetscFunctionBeginUser;
-  cellBlock(comm, numCells, &blockStart, &blockRows);
+  PetscCall(cellBlocks.setupBlocks(comm, numCells));
+  const PetscInt blockStart = cellBlocks.blockStart(), blockRows = cellBlocks.blockSize();
   {
     std::ifstream in(file);
     std::ostringstream err;

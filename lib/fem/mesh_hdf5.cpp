@@ -185,32 +185,21 @@ PetscErrorCode receiveLabelRows(MPI_Comm comm, hid_t file, const std::string &na
   PetscCall(blocks.setupBlocks(comm, static_cast<PetscInt>(std::max(total, 0LL))));
   std::vector<long long> rows;
   *ok = total >= 0 && core::readBlockIntDataset(file, name, blocks, cols, &rows) && *ok;
-  std::vector<int> sendCounts(size, 0), sendDispl(size, 0), recvCounts(size), recvDispl(size, 0);
-  const size_t n = rows.size() / cols;
-  std::vector<int> dest(n);
-  for (size_t r = 0; r < n; ++r) {
+  std::vector<int> dest(rows.size() / cols);
+  for (size_t r = 0; r < dest.size(); ++r) {
     const long long cell = rows[r * cols];
     dest[r] = cell >= 0 && cell < numCells ? core::blockOwner(static_cast<PetscInt>(cell), numCells, size) : 0;
-    sendCounts[dest[r]] += cols;
   }
-  for (int p = 1; p < size; ++p) sendDispl[p] = sendDispl[p - 1] + sendCounts[p - 1];
-  std::vector<long long> send(rows.size());
-  std::vector<int> next = sendDispl;
-  for (size_t r = 0; r < n; ++r)
-    std::copy(rows.begin() + r * cols, rows.begin() + (r + 1) * cols, send.begin() + next[dest[r]]),
-        next[dest[r]] += cols;
-  PetscCallMPI(MPI_Alltoall(sendCounts.data(), 1, MPI_INT, recvCounts.data(), 1, MPI_INT, comm));
-  for (int p = 1; p < size; ++p) recvDispl[p] = recvDispl[p - 1] + recvCounts[p - 1];
-  mine->resize(recvDispl[size - 1] + recvCounts[size - 1]);
-  PetscCallMPI(MPI_Alltoallv(send.data(), sendCounts.data(), sendDispl.data(), MPI_LONG_LONG, mine->data(),
-                             recvCounts.data(), recvDispl.data(), MPI_LONG_LONG, comm));
+  core::RowRoute route;
+  PetscCall(route.setup(comm, dest));
+  PetscCall(route.forward(rows, cols, mine));
   PetscFunctionReturn(0);
 }
 
 // Labels this rank's copies of the rows' points: each row names a local cell (natural id in this rank's cell block),
 // itself (cell rows: cols 2) or the point of its closure with the row's dimension and vertices (cols 6).
 PetscErrorCode applyLabelRows(DM dm, DMLabel label, const std::vector<long long> &rows, int cols, PetscInt firstCell,
-                              PetscInt numCells, const PetscInt *vertexNatural, bool *ok) {
+                              const PetscInt *vertexNatural, bool *ok) {
   PetscInt cStart, cEnd, vStart, vEnd, cellDepth;
   PetscFunctionBeginUser;
   PetscCall(DMPlexGetHeightStratum(dm, 0, &cStart, &cEnd));
@@ -220,7 +209,7 @@ PetscErrorCode applyLabelRows(DM dm, DMLabel label, const std::vector<long long>
   for (size_t r = 0; r < rows.size(); r += cols) {
     const long long cell = rows[r] - firstCell, depth = cols == kCellLabelCols ? cellDepth : rows[r + 1];
     const long long value = cols == kCellLabelCols ? rows[r + 1] : rows[r + 2];
-    if (cell < 0 || cell >= cEnd - cStart || rows[r] >= numCells) {
+    if (cell < 0 || cell >= cEnd - cStart) {
       *ok = false;
       continue;
     }
@@ -324,7 +313,7 @@ PetscErrorCode readHdf5Mesh(MPI_Comm comm, Mesh *mesh, DM *dm, std::vector<Petsc
       const std::string name = "/aries/labels/" + std::to_string(k) + (cols == kCellLabelCols ? "/cells" : "/points");
       std::vector<long long> rows;
       PetscCall(receiveLabelRows(comm, file, name, cols, numCells, &rows, &ok));
-      PetscCall(applyLabelRows(*dm, label, rows, cols, cellBlocks.blockStart(), numCells, vertexNatural.data(), &ok));
+      PetscCall(applyLabelRows(*dm, label, rows, cols, cellBlocks.blockStart(), vertexNatural.data(), &ok));
     }
   }
   if (file >= 0) H5Fclose(file);
