@@ -75,12 +75,14 @@ CATALOG = {
         "s2m": {"n": 70, "tets": 6 * 70 ** 3},  # scale-out: 2,058,000 tets (parallel input and output)
     },
     "armadillo": {
+        "coarse": {"h": 0.14, "tets": 746},  # nested iteration: a coarse level of the test mesh
         "test": {"h": 0.07, "tets": 3816},
         "default": {"h": 0.0315, "tets": 34320},
         "paper": {"alias": "default"},
         "fig15": {"h": 0.0155, "tets": 262925},  # caricature (Fig. 15, Table 1: 292,476 tets)
     },
     "bunny": {
+        "coarse": {"h": 0.13, "tets": 607},  # nested iteration: a coarse level of the test mesh
         "test": {"h": 0.066, "tets": 3513},
         "default": {"h": 0.0289, "tets": 35010},
         "paper": {"h": 0.0107, "tets": 639254},
@@ -93,16 +95,19 @@ CATALOG = {
     },
     # closed CGAL surfaces beyond the paper's scenes: shapes the solver was not developed on
     "triceratops": {
+        "coarse": {"h": 0.076, "tets": 848},  # nested iteration: a coarse level of the test mesh
         "test": {"h": 0.038, "tets": 4620},
         "default": {"h": 0.019, "tets": 30238},
         "paper": {"alias": "default"},
     },
     "hand": {
+        "coarse": {"h": 0.124, "tets": 723},  # nested iteration: a coarse level of the test mesh
         "test": {"h": 0.062, "tets": 4622},
         "default": {"h": 0.031, "tets": 34096},
         "paper": {"alias": "default"},
     },
     "camel": {
+        "coarse": {"h": 0.08, "tets": 941},  # nested iteration (HXT fails on the legs from h = 0.085)
         "test": {"h": 0.06, "tets": 1832},
         "default": {"h": 0.025, "tets": 16638},
         "paper": {"alias": "default"},
