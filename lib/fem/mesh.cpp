@@ -234,12 +234,13 @@ PetscErrorCode readGmshMesh(MPI_Comm comm, Mesh *mesh, DM *serial, std::vector<P
 
 using namespace loading;
 
-PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh) {
+PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh, const std::string &file) {
   PetscMPIInt size;
   PetscBool set = PETSC_FALSE;
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_size(comm, &size));
-  PetscCall(core::get(opt::meshFile, &mesh->filename, &set));
+  if (file.empty()) PetscCall(core::get(opt::meshFile, &mesh->filename, &set));
+  else mesh->filename = file, set = PETSC_TRUE;
   if (!set)
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
             "no mesh: give -dm_plex_filename FILE.msh (gmsh format) or FILE.h5 (converted with -mesh_convert)");

@@ -45,7 +45,8 @@ struct Mesh {
 // repartitioned in parallel by recursive coordinate bisection (the default; Debian's PETSc has no ParMETIS) or
 // PT-Scotch. Natural ids are the gmsh order either way, so the
 // results and the output files do not depend on the format.
-PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh);
+// `file` (optional) is read instead of -dm_plex_filename (a coarse mesh of the nested iteration, -coarse_mesh).
+PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh, const std::string &file = {});
 
 // -mesh_convert OUT.h5: reads the gmsh mesh -dm_plex_filename (with the options that shape its reading:
 // -dm_plex_gmsh_spacedim, -dm_plex_gmsh_use_regions) and writes its cells, coordinates and every label as arrays in the

@@ -1,0 +1,285 @@
+#include "fem/mesh_transfer.hpp"
+
+#include "core/errors.hpp"
+
+#include <Eigen/LU>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace aries::fem {
+
+namespace {
+
+constexpr double kInsideTol = 1e-10;   // barycentric coordinates >= -kInsideTol count as inside
+constexpr double kNotFound = 1e300;    // the distance of "no candidate cell on this rank"
+
+// One local source cell, its corners ordered by natural vertex id, so that its barycentric coordinates are computed
+// with the same operations on every rank that holds it.
+struct SourceCell {
+  std::array<PetscInt, 4> corner;  // local vertex indices
+  Eigen::Vector3d origin;          // rest position of corner 0
+  Eigen::Matrix3d inverse;         // of [X1 - X0, X2 - X0, X3 - X0]
+  Eigen::Vector3d lo, hi;          // bounding box
+  PetscInt natural;
+};
+
+struct Located {
+  double distance = kNotFound;  // 0 inside; else from the point to the cell's clamped barycentric point
+  PetscInt natural = -1, cell = -1;
+  bool better(const Located &o) const {
+    return distance < o.distance || (distance == o.distance && natural < o.natural);
+  }
+};
+
+std::array<double, 4> barycentric(const SourceCell &c, const Eigen::Vector3d &p) {
+  const Eigen::Vector3d l = c.inverse * (p - c.origin);
+  return {1.0 - l[0] - l[1] - l[2], l[0], l[1], l[2]};
+}
+
+// The cells of one rank in a uniform grid of bins (each cell in every bin its box overlaps).
+class CellGrid {
+ public:
+  CellGrid(const std::vector<SourceCell> &cells, const std::vector<Eigen::Vector3d> &rest, double pad)
+      : cells_(cells), rest_(rest) {
+    lo_.setConstant(std::numeric_limits<double>::max());
+    hi_.setConstant(-std::numeric_limits<double>::max());
+    for (const auto &c : cells) {
+      lo_ = lo_.cwiseMin(c.lo);
+      hi_ = hi_.cwiseMax(c.hi);
+    }
+    const int n = std::max(1, static_cast<int>(std::cbrt(cells.size() / 2.0)));
+    for (int d = 0; d < 3; ++d) {
+      dims_[d] = cells.empty() ? 1 : n;
+      width_[d] = cells.empty() ? 1.0 : std::max((hi_[d] - lo_[d]) / n, 1e-300);
+    }
+    bins_.assign(static_cast<size_t>(dims_[0]) * dims_[1] * dims_[2], {});
+    for (size_t k = 0; k < cells.size(); ++k) {
+      std::array<int, 3> a, b;
+      range(cells[k].lo.array() - pad, cells[k].hi.array() + pad, &a, &b);  // (always inside the grid)
+      for (int i = a[0]; i <= b[0]; ++i)
+        for (int j = a[1]; j <= b[1]; ++j)
+          for (int l = a[2]; l <= b[2]; ++l) bins_[index(i, j, l)].push_back(static_cast<PetscInt>(k));
+    }
+    seen_.assign(cells.size(), -1);
+  }
+
+  // The best cell for p: among the cells containing it the one of smallest natural id; else, among the cells whose box
+  // is within `margin` of p, the nearest (by the distance to its clamped barycentric point), ties by natural id.
+  Located locate(const Eigen::Vector3d &p, double margin, long query) {
+    Located best;
+    if (cells_.empty()) return best;
+    for (int pass = 0; pass < 2 && best.distance > 0.0; ++pass) {
+      const double r = pass == 0 ? 0.0 : margin;
+      std::array<int, 3> a, b;
+      if (!range(p.array() - r, p.array() + r, &a, &b)) continue;
+      for (int i = a[0]; i <= b[0]; ++i)
+        for (int j = a[1]; j <= b[1]; ++j)
+          for (int l = a[2]; l <= b[2]; ++l)
+            for (PetscInt k : bins_[index(i, j, l)]) {
+              if (seen_[k] == 2 * query + pass) continue;
+              seen_[k] = 2 * query + pass;
+              const SourceCell &c = cells_[k];
+              if (pass == 1 && boxDistance(c, p) > margin) continue;
+              const Located cand = judge(c, k, p);
+              if (pass == 0 && cand.distance > 0.0) continue;
+              if (cand.better(best)) best = cand;
+            }
+    }
+    return best;
+  }
+
+ private:
+  Located judge(const SourceCell &c, PetscInt k, const Eigen::Vector3d &p) const {
+    Located r;
+    r.natural = c.natural;
+    r.cell = k;
+    const auto l = barycentric(c, p);
+    if (*std::min_element(l.begin(), l.end()) >= -kInsideTol) {
+      r.distance = 0.0;
+      return r;
+    }
+    double sum = 0.0;
+    std::array<double, 4> clamped;
+    for (int i = 0; i < 4; ++i) sum += clamped[i] = std::max(l[i], 0.0);
+    Eigen::Vector3d q = Eigen::Vector3d::Zero();
+    for (int i = 0; i < 4; ++i) q += clamped[i] / sum * rest_[c.corner[i]];
+    r.distance = (p - q).norm();
+    return r;
+  }
+  static double boxDistance(const SourceCell &c, const Eigen::Vector3d &p) {
+    return (p.cwiseMax(c.lo).cwiseMin(c.hi) - p).norm();
+  }
+  // The bins overlapped by [lo, hi]; false if none.
+  bool range(const Eigen::Vector3d &lo, const Eigen::Vector3d &hi, std::array<int, 3> *a, std::array<int, 3> *b) const {
+    for (int d = 0; d < 3; ++d) {
+      if (hi[d] < lo_[d] || lo[d] > hi_[d]) return false;
+      (*a)[d] = std::clamp(static_cast<int>(std::floor((lo[d] - lo_[d]) / width_[d])), 0, dims_[d] - 1);
+      (*b)[d] = std::clamp(static_cast<int>(std::floor((hi[d] - lo_[d]) / width_[d])), 0, dims_[d] - 1);
+    }
+    return true;
+  }
+  size_t index(int i, int j, int l) const {
+    return (static_cast<size_t>(i) * dims_[1] + j) * dims_[2] + l;
+  }
+
+  const std::vector<SourceCell> &cells_;
+  const std::vector<Eigen::Vector3d> &rest_;
+  Eigen::Vector3d lo_, hi_, width_;
+  std::array<int, 3> dims_;
+  std::vector<std::vector<PetscInt>> bins_;
+  std::vector<long> seen_;
+};
+
+PetscErrorCode sourceCells(const Mesh &mesh, const std::vector<Eigen::Vector3d> &rest, std::vector<SourceCell> *cells,
+                           double *diameter) {
+  PetscFunctionBeginUser;
+  std::vector<PetscInt> verts;
+  *diameter = 0.0;
+  for (PetscInt c = mesh.cStart; c < mesh.cEnd; ++c) {
+    if (!mesh.cellOwned[c - mesh.cStart]) continue;
+    PetscCall(closureVertices(mesh, c, &verts));
+    PetscCheck(verts.size() == 4, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+               "nested iteration: mesh '%s' is not a tetrahedral mesh (a cell has %d vertices)", mesh.filename.c_str(),
+               (int)verts.size());
+    std::sort(verts.begin(), verts.end(),
+              [&](PetscInt a, PetscInt b) { return mesh.naturalVertex[a] < mesh.naturalVertex[b]; });
+    SourceCell s;
+    std::copy(verts.begin(), verts.end(), s.corner.begin());
+    s.origin = rest[s.corner[0]];
+    Eigen::Matrix3d D;
+    for (int i = 0; i < 3; ++i) D.col(i) = rest[s.corner[i + 1]] - s.origin;
+    s.inverse = D.inverse();
+    s.lo = s.hi = s.origin;
+    for (int i = 1; i < 4; ++i) {
+      s.lo = s.lo.cwiseMin(rest[s.corner[i]]);
+      s.hi = s.hi.cwiseMax(rest[s.corner[i]]);
+    }
+    s.natural = mesh.naturalCell[c - mesh.cStart];
+    *diameter = std::max(*diameter, (s.hi - s.lo).norm());
+    cells->push_back(s);
+  }
+  PetscFunctionReturn(0);
+}
+
+}  // namespace
+
+PetscErrorCode VertexInterpolation::setup(const Mesh &source, const Mesh &target, const std::string &what) {
+  MPI_Comm comm;
+  PetscMPIInt size;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetComm((PetscObject)source.dm, &comm));
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  std::vector<Eigen::Vector3d> sourceRest, targetRest;
+  PetscCall(vertexRestPositions(source, &sourceRest));
+  PetscCall(vertexRestPositions(target, &targetRest));
+  std::vector<SourceCell> cells;
+  double margin = 0.0;
+  PetscCall(sourceCells(source, sourceRest, &cells, &margin));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &margin, 1, MPI_DOUBLE, MPI_MAX, comm));
+
+  // Every rank's box of cells, enlarged by the margin: where the points it may hold a candidate for lie.
+  double box[6] = {kNotFound, kNotFound, kNotFound, -kNotFound, -kNotFound, -kNotFound};
+  for (const auto &c : cells)
+    for (int d = 0; d < 3; ++d) {
+      box[d] = std::min(box[d], c.lo[d] - margin);
+      box[3 + d] = std::max(box[3 + d], c.hi[d] + margin);
+    }
+  std::vector<double> boxes(6 * static_cast<size_t>(size));
+  PetscCallMPI(MPI_Allgather(box, 6, MPI_DOUBLE, boxes.data(), 6, MPI_DOUBLE, comm));
+
+  // Every local target vertex (ghosts too: a field on the target's cells then needs no exchange of its own), each
+  // sent to every rank whose box holds it.
+  std::vector<int> dest;
+  std::vector<PetscInt> rowVertex;
+  std::vector<double> rows;
+  std::string uncovered;
+  targetVertices_ = target.vEnd - target.vStart;
+  for (PetscInt v = 0; v < targetVertices_; ++v) {
+    const Eigen::Vector3d &p = targetRest[v];
+    bool any = false;
+    for (int r = 0; r < size; ++r) {
+      const double *b = &boxes[6 * static_cast<size_t>(r)];
+      if (p[0] < b[0] || p[1] < b[1] || p[2] < b[2] || p[0] > b[3] || p[1] > b[4] || p[2] > b[5]) continue;
+      dest.push_back(r);
+      rowVertex.push_back(v);
+      rows.insert(rows.end(), {p[0], p[1], p[2]});
+      any = true;
+    }
+    if (!any && uncovered.empty()) uncovered = std::to_string(target.naturalVertex[v]);
+  }
+  core::RowRoute ask;
+  PetscCall(ask.setup(comm, dest));
+  std::vector<double> points, replies;
+  PetscCall(ask.forward(rows, 3, &points));
+  CellGrid grid(cells, sourceRest, 1e-8 * margin);
+  for (size_t k = 0; 3 * k < points.size(); ++k) {
+    const Located best = grid.locate(Eigen::Vector3d(points[3 * k], points[3 * k + 1], points[3 * k + 2]), margin,
+                                     static_cast<long>(k));
+    replies.insert(replies.end(), {best.distance, static_cast<double>(best.natural), static_cast<double>(best.cell)});
+  }
+  std::vector<double> answers;
+  PetscCall(ask.backward(replies, 3, &answers));
+
+  // Per vertex the best answer over the ranks asked (its rows are consecutive).
+  std::vector<int> winner;
+  targetVertex_.clear();
+  std::vector<double> chosen;  // per winning row: the source cell (local on the winner) and the point
+  double outside = 0.0;
+  for (size_t k = 0; k < rowVertex.size();) {
+    size_t bestRow = k;
+    Located best{answers[3 * k], static_cast<PetscInt>(answers[3 * k + 1]), 0};
+    size_t e = k + 1;
+    for (; e < rowVertex.size() && rowVertex[e] == rowVertex[k]; ++e) {
+      const Located cand{answers[3 * e], static_cast<PetscInt>(answers[3 * e + 1]), 0};
+      if (cand.better(best)) {
+        best = cand;
+        bestRow = e;
+      }
+    }
+    if (best.distance >= kNotFound) {
+      if (uncovered.empty()) uncovered = std::to_string(target.naturalVertex[rowVertex[k]]);
+    } else {
+      outside = std::max(outside, best.distance);
+      winner.push_back(dest[bestRow]);
+      targetVertex_.push_back(rowVertex[k]);
+      chosen.insert(chosen.end(), {answers[3 * bestRow + 2], rows[3 * bestRow], rows[3 * bestRow + 1], rows[3 * bestRow + 2]});
+    }
+    k = e;
+  }
+  PetscCall(core::collectiveCheck(
+      comm, !uncovered.empty(),
+      what + ": vertex " + uncovered + " of '" + target.filename + "' is farther than the largest cell (" +
+          std::to_string(margin) + ") from every cell of '" + source.filename +
+          "': the two meshes are not of the same body (same surface, same units)"));
+  PetscCallMPI(MPI_Allreduce(&outside, &outside_, 1, MPI_DOUBLE, MPI_MAX, comm));
+
+  PetscCall(route_.setup(comm, winner));
+  std::vector<double> mine;
+  PetscCall(route_.forward(chosen, 4, &mine));
+  corner_.resize(mine.size() / 4);
+  weight_.resize(mine.size() / 4);
+  for (size_t k = 0; k < corner_.size(); ++k) {
+    const SourceCell &c = cells[static_cast<size_t>(mine[4 * k])];
+    corner_[k] = c.corner;
+    weight_[k] = barycentric(c, Eigen::Vector3d(mine[4 * k + 1], mine[4 * k + 2], mine[4 * k + 3]));
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode VertexInterpolation::interpolate(const std::vector<double> &sourceValues,
+                                                std::vector<double> *targetValues) const {
+  PetscFunctionBeginUser;
+  std::vector<double> replies(3 * corner_.size(), 0.0), values;
+  for (size_t k = 0; k < corner_.size(); ++k)
+    for (int i = 0; i < 4; ++i)
+      for (int d = 0; d < 3; ++d) replies[3 * k + d] += weight_[k][i] * sourceValues[3 * corner_[k][i] + d];
+  PetscCall(route_.backward(replies, 3, &values));
+  targetValues->assign(3 * static_cast<size_t>(targetVertices_), 0.0);
+  for (size_t k = 0; k < targetVertex_.size(); ++k)
+    for (int d = 0; d < 3; ++d) (*targetValues)[3 * targetVertex_[k] + d] = values[3 * k + d];
+  PetscFunctionReturn(0);
+}
+
+}  // namespace aries::fem
