@@ -205,6 +205,10 @@ PetscErrorCode run(int *exitCode) {
                         summary.avgSeconds, summary.totalSeconds, (int)summary.safeguardHalvings,
                         (int)summary.loadSubsteps,
                         summary.failedSteps ? (", FAILED steps " + std::to_string(summary.failedSteps)).c_str() : ""));
+  if (summary.nested)
+    PetscCall(PetscPrintf(comm, "aries: coarse levels (not in the counts above; in the times): Newton %.2f/step, PCG "
+                                "%.1f/step\n",
+                          summary.coarseNewton, summary.coarseLinear));
   PetscCall(printResources(comm, setupSeconds, summary, output.seconds()));
   if (!outOpts.output.empty()) PetscCall(PetscPrintf(comm, "aries: output %s.xmf\n", outOpts.output.c_str()));
   if (summary.failed) {

@@ -43,6 +43,24 @@ $EndElements
 """
 
 
+# One tetrahedron far from TET_MSH's (another body).
+FAR_TET_MSH = """$MeshFormat
+2.2 0 8
+$EndMeshFormat
+$Nodes
+4
+1 10 0 0
+2 11 0 0
+3 10 1 0
+4 10 0 1
+$EndNodes
+$Elements
+1
+1 4 2 1 1 1 2 3 4
+$EndElements
+"""
+
+
 TRI_MSH = """$MeshFormat
 2.2 0 8
 $EndMeshFormat
@@ -222,6 +240,22 @@ def case_defs():
                           r"read in parallel")
     d["mesh_convert_suffix"] = (lambda: ["-dm_plex_filename", good_mesh(), "-mesh_convert", os.path.join(w, "out.msh")],
                                 r"option -mesh_convert '.*out\.msh': the converted mesh's name must end in \.h5")
+    # -coarse_mesh (nested iteration): a coarse mesh that is not coarser, of another body, missing; a surface mesh.
+    d["coarse_mesh_not_coarser"] = (lambda: ["-dm_plex_filename", good_mesh(), "-coarse_mesh", good_mesh()],
+                                    r"option -coarse_mesh: '.*good\.msh' has 2 cells, not fewer than the 2 of '.*good"
+                                    r"\.msh' \(coarse meshes come coarsest last\)")
+    d["coarse_mesh_other_body"] = (lambda: ["-dm_plex_filename", good_mesh(), "-coarse_mesh",
+                                            write("far.msh", FAR_TET_MSH)],
+                                   r"option -coarse_mesh \('.*far\.msh' for '.*good\.msh'\): vertex \d+ of "
+                                   r"'.*good\.msh' is farther than the largest cell .* from every cell of '.*far\.msh': "
+                                   r"the two meshes are not of the same body")
+    d["coarse_mesh_missing"] = (lambda: ["-dm_plex_filename", good_mesh(), "-coarse_mesh",
+                                         os.path.join(ARGS.work, "missing.msh")],
+                                r"option -coarse_mesh: mesh file '.*missing\.msh' does not exist or is not readable")
+    d["coarse_mesh_surface"] = (lambda: ["-dm_plex_filename", write("flat_tri.msh", TRI_MSH.replace("Z", "0")),
+                                         "-coarse_mesh", good_mesh()],
+                                r"option -coarse_mesh: nested iteration needs tetrahedral meshes, and '.*flat_tri\.msh' "
+                                r"is a surface mesh")
     return d
 
 

@@ -1681,6 +1681,120 @@ def case_multigrid_rule():
         fail("the static scramble with GAMG by rule did not converge")
 
 
+def case_nested_static_scramble():
+    """Nested iteration (-coarse_mesh) on the static scramble (box pin, as static_scramble): the camel's 16.6k-tet mesh
+    with its 1.8k-tet test mesh as the coarse level (generated from the same surface, not nested). Step 1 is solved on
+    the coarse mesh first (its own detached start included) and its displacement, interpolated, starts the fine
+    solve: the start is taken (stats coarse_start 1), the fine solve then needs at most a few updates where it needs
+    40-50 without the coarse level (0 and 47 when written), and it ends at rest like the plain solve. The coarse
+    level's work is counted apart (coarse_newton_its, -newton_history rows of level 1, before the fine rows)."""
+    fine, coarse = sized_mesh("camel", "default"), mesh("camel")
+    results = {}
+    for name, extra in (("plain", []), ("nested", ["-coarse_mesh", coarse])):
+        tag = "nested_scramble_%s_np%d" % (name, ARGS.ranks)
+        run(static_scramble_args(fine, 2, 1) + extra + ["-output", out_base(tag), "-output_every", "1", "-stats",
+            out_base(tag) + ".csv", "-newton_history", out_base(tag) + "_newton.csv"], tag=tag)
+        results[name] = (stats(out_base(tag) + ".csv")[0], shape_error(out_base(tag), rigid=False)[0],
+                         csv_rows(out_base(tag) + "_newton.csv"))
+    (plain, err_plain, _), (nested, err_nested, history) = results["plain"], results["nested"]
+    levels = [h["level"] for h in history]
+    print("fine updates %s without, %s with the coarse level (+%s coarse updates, start %s); distance to rest %.2e / "
+          "%.2e L" % (plain["newton_its"], nested["newton_its"], nested["coarse_newton_its"], nested["coarse_start"],
+                      err_plain, err_nested))
+    for row in (plain, nested):
+        if row["reason"] not in CONVERGED:
+            fail("step 1 did not converge: %s" % row["reason"])
+    if plain["coarse_start"] != "-1" or plain["coarse_newton_its"] != "0":
+        fail("without -coarse_mesh the stats name a coarse level: %s" % plain)
+    if nested["coarse_start"] != "1" or not int(nested["coarse_newton_its"]) > 0:
+        fail("the coarse level's start was not taken or did no work: %s" % nested)
+    if not int(nested["newton_its"]) <= 5 or not int(plain["newton_its"]) >= 20:
+        fail("fine updates %s with the coarse level, %s without: expected at most 5 and at least 20" %
+             (nested["newton_its"], plain["newton_its"]))
+    if not (err_nested <= 1e-3 and err_plain <= 1e-3):
+        fail("not at rest: %.3e L plain, %.3e L nested" % (err_plain, err_nested))
+    if levels.count("0") != int(nested["linear_solves"]) or "1" not in levels or levels != sorted(levels, reverse=True):
+        fail("-newton_history levels: %d fine rows for %s linear solves, coarse rows first expected" %
+             (levels.count("0"), nested["linear_solves"]))
+
+
+def case_nested_patch():
+    """The nested iteration's interpolation reproduces a linear field exactly, on meshes that are not nested: a patch
+    test x = A X on the whole boundary of the cylinder's 17.8k-tet mesh with its 1.8k-tet test mesh as the coarse
+    level (fine surface vertices lie outside the coarse mesh's facets: the field is extrapolated from the nearest
+    cell). Two load steps, both started from the coarse level (-coarse_steps -1: step 1 from rest, step 2 from the
+    interpolated correction): the coarse solution is exactly homogeneous, so the fine solve starts at its solution and
+    converges with 0 updates (converged_initial), to 1e-10 L."""
+    fine, coarse = sized_mesh("cylinder", "default"), mesh("cylinder")
+    A = np.array([[1.2, 0.15, 0.0], [0.05, 1.1, 0.1], [0.0, 0.1, 1.15]])
+    values = ",".join("%.17g" % v for v in A.ravel())
+    tag = "nested_patch_np%d" % ARGS.ranks
+    args = ["-dm_plex_filename", fine, "-energy", "iarap", "-E", "1e3", "-nu", "0.3", "-steps", "2", "-newton_tol",
+            "1e-12", "-bc_clamp", "bottom,top,side", "-coarse_mesh", coarse, "-coarse_steps", "-1"]
+    for g in ("bottom", "top", "side"):
+        args += ["-bc_clamp_%s_affine" % g, values]
+    run(args + ["-output", out_base(tag), "-output_every", "2", "-stats", out_base(tag) + ".csv"], tag=tag)
+    rows = stats(out_base(tag) + ".csv")
+    rest, _, x, _ = read_state(out_base(tag))
+    L = np.linalg.norm(rest.max(0) - rest.min(0))
+    err = np.abs(x - rest @ A.T).max() / L
+    print("steps: %s; max |x - A X| = %.2e L" % ([(r["newton_its"], r["coarse_newton_its"], r["coarse_start"],
+                                                    r["reason"]) for r in rows], err))
+    if any(r["coarse_start"] != "1" or r["newton_its"] != "0" or r["reason"] != "converged_initial" for r in rows):
+        fail("a step did not start at its solution from the coarse level")
+    if not err <= 1e-10:
+        fail("max |x - A X| = %.2e L (limit 1e-10 L)" % err)
+
+
+def case_nested_inside_out():
+    """Nested iteration in backward Euler, every step (-coarse_steps -1): the inside-out bunny (options/
+    bunny_inside_out.yml) on the 3.5k-tet test mesh with the 607-tet coarse bunny, 3 steps. Step 1 starts the coarse
+    level from the fine inverted start interpolated to its vertices (exact: the reflection is linear), later steps from
+    the fine state and velocities; every step converges on the fine mesh, every step solved the coarse level first
+    (coarse_start 0 or 1, coarse_newton_its > 0), and after step 1 no cell is singular (min alpha > 0)."""
+    tag = "nested_inside_out_np%d" % ARGS.ranks
+    run(["-options_file", os.path.join(ARGS.root, "options", "bunny_inside_out.yml"), "-dm_plex_filename",
+         mesh("bunny"), "-steps", "3", "-coarse_mesh", sized_mesh("bunny", "coarse"), "-coarse_steps", "-1",
+         "-output", out_base(tag), "-output_every", "3", "-stats", out_base(tag) + ".csv"], tag=tag)
+    rows = stats(out_base(tag) + ".csv")
+    print("steps (fine, coarse updates, start, reason, min alpha): %s" % [
+        (r["newton_its"], r["coarse_newton_its"], r["coarse_start"], r["reason"], r["min_alpha"]) for r in rows])
+    if len(rows) != 3 or any(r["reason"] not in CONVERGED for r in rows):
+        fail("a step did not converge: %s" % [r["reason"] for r in rows])
+    if any(r["coarse_start"] not in ("0", "1") or not int(r["coarse_newton_its"]) > 0 for r in rows):
+        fail("a step did not solve the coarse level first: %s" % [(r["coarse_start"], r["coarse_newton_its"])
+                                                                   for r in rows])
+    if not float(rows[-1]["min_alpha"]) > 0:
+        fail("singular cells after 3 steps: min alpha %s" % rows[-1]["min_alpha"])
+
+
+def case_nested_ranks_agree():
+    """Nested iteration on 1 and 2 ranks (the coarse and the fine mesh partitioned independently, the interpolation
+    weights found on whichever rank holds the cell): the same positions to 1e-8 L (1.4e-12 L when written). The
+    cylinder compression of options/cylinder_compress.yml, static, 2 load steps, on the 17.8k-tet cylinder with the
+    1.8k-tet one as the coarse level of every step (-coarse_steps -1: the correction path), -newton_tol 1e-8 (at the
+    default tolerance two solves may stop anywhere within 1e-4 L of each other, with or without coarse levels)."""
+    fine, coarse = sized_mesh("cylinder", "default"), mesh("cylinder")
+    states = []
+    for n in (1, 2):
+        tag = "nested_ranks_np%d" % n
+        run(["-options_file", os.path.join(ARGS.root, "options", "cylinder_compress.yml"), "-dm_plex_filename", fine,
+             "-integrator", "static", "-steps", "2", "-newton_tol", "1e-8", "-coarse_mesh", coarse, "-coarse_steps",
+             "-1", "-output", out_base(tag), "-output_every", "2", "-stats", out_base(tag) + ".csv"], ranks=n, tag=tag)
+        rows = stats(out_base(tag) + ".csv")
+        if any(r["reason"] not in CONVERGED or r["coarse_start"] != "1" for r in rows):
+            fail("%d rank(s): a step did not converge or did not start from the coarse level: %s" %
+                 (n, [(r["reason"], r["coarse_start"]) for r in rows]))
+        states.append(read_state(out_base(tag)))
+    rest = states[0][0]
+    L = np.linalg.norm(rest.max(0) - rest.min(0))
+    diff = np.abs(states[0][2] - states[1][2]).max() / L
+    moved = np.abs(states[0][2] - rest).max() / L
+    print("1 vs 2 ranks: %.3e L (limit 1e-8); largest displacement %.3e L" % (diff, moved))
+    if not diff <= 1e-8:
+        fail("1 and 2 ranks differ by %.3e L" % diff)
+
+
 CASES = {
     "multigrid_rule": case_multigrid_rule,
     "parallel_io": case_parallel_io,
@@ -1723,6 +1837,10 @@ CASES = {
     "rest_continued": case_rest_continued,
     "inside_out_density1": case_inside_out_density1,
     "newton_variants": case_newton_variants,
+    "nested_static_scramble": case_nested_static_scramble,
+    "nested_patch": case_nested_patch,
+    "nested_inside_out": case_nested_inside_out,
+    "nested_ranks_agree": case_nested_ranks_agree,
 }
 
 

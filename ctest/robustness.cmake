@@ -11,7 +11,7 @@ endif()
 # Every case on one rank; a representative subset on two (the collective error path is shared by all cases).
 set(ARIES_BAD_INPUT_NP2 missing_mesh truncated_mesh degenerate_cell fiber_count unknown_bc_set strict_unknown_option
     missing_options_file curved_surface_read_flat cloth_energy_planar_mesh h5_mesh_not_converted h5_mesh_metis
-    h5_mesh_old_format fiber_zero target_keyframe_order)
+    h5_mesh_old_format fiber_zero target_keyframe_order coarse_mesh_other_body)
 foreach(case ${ARIES_BAD_INPUT_NP2})
   if(NOT case IN_LIST ARIES_BAD_INPUT_CASES)
     message(FATAL_ERROR "bad-input case '${case}' (two-rank subset) is not listed by ctest/bad_input.py --list: "

@@ -74,6 +74,7 @@ const std::vector<core::OptionSection> &optionSections() {
       section("body_forces", "Body forces", fem::opt::kBodyForceOptions),
       section("loads", "Surface loads", fem::opt::kLoadOptions),
       section("stepping", "Time stepping and initial state", solver::opt::kSteppingOptions),
+      section("nested", "Nested iteration (coarse levels)", solver::opt::kNestedOptions),
       section("newton", "Newton", solver::opt::kNewtonOptions),
       section("cloth", "Cloth and planar terms: bending, contact, orientation", fem::opt::kClothOptions),
       section("output", "Output", io::opt::kOutputOptions),

@@ -117,7 +117,7 @@ PetscErrorCode RunOutput::setup(const OutputOptions &opts, const CheckpointOptio
   if (!opts.newtonHistory.empty()) {
     if (rank == 0) {
       history_ = makeParentDirectory(opts.newtonHistory) ? std::fopen(opts.newtonHistory.c_str(), "w") : nullptr;
-      if (history_) std::fprintf(history_, "step,iteration,energy,residual,step_inf,lambda,ksp_its,filter,subspace,rotation\n");
+      if (history_) std::fprintf(history_, "step,iteration,energy,residual,step_inf,lambda,ksp_its,filter,subspace,rotation,level\n");
     }
     PetscCall(core::collectiveCheck(comm_, rank == 0 && !history_,
                                    "cannot open Newton history file '" + opts.newtonHistory +
@@ -264,6 +264,9 @@ PetscErrorCode RunOutput::record(const solver::Simulation &sim, const solver::St
   st.residual = rep.newton.residualNorm;
   st.barrierFallback = rep.newton.barrierFallbackCells;
   st.barrierCells = rep.newton.barrierActiveCells;
+  st.coarseNewton = rep.coarse.newtonIterations;
+  st.coarseLinear = rep.coarse.linearIterations;
+  st.coarseStart = rep.coarseStart;
   PetscCall(disc.diagnostics().elasticEnergy(xLocal, &st.energy));
   std::vector<double> alpha;
   PetscCall(disc.diagnostics().cellAlpha(xLocal, &alpha));
@@ -284,16 +287,23 @@ PetscErrorCode RunOutput::record(const solver::Simulation &sim, const solver::St
     }
   PetscCall(DMRestoreLocalVector(disc.dm(), &xLocal));
   if (history_) {
-    for (const auto &h : rep.newton.history)
-      std::fprintf(history_, "%d,%d,%.17g,%.6e,%.6e,%.6g,%d,%s,%d,%g\n", (int)rep.step, (int)h.iteration, h.energy,
-                   h.residual, h.stepInf, h.lambda, (int)h.linearIterations,
-                   h.filter == 'a' ? "abs" : h.filter == 'n' ? "none" : "clamp", h.accelerated ? 1 : 0, h.rotation);
+    // The coarse levels' rows first (their solves come first), each marked with its level.
+    for (const auto *rows : {&rep.coarse.history, &rep.newton.history})
+      for (const auto &h : *rows)
+        std::fprintf(history_, "%d,%d,%.17g,%.6e,%.6e,%.6g,%d,%s,%d,%g,%d\n", (int)rep.step, (int)h.iteration,
+                     h.energy, h.residual, h.stepInf, h.lambda, (int)h.linearIterations,
+                     h.filter == 'a' ? "abs" : h.filter == 'n' ? "none" : "clamp", h.accelerated ? 1 : 0, h.rotation,
+                     h.level);
     std::fflush(history_);
   }
   const std::string halved =
       rep.newton.safeguardHalvings ? " (safeguard halved the step " + std::to_string(rep.newton.safeguardHalvings) + "x)" : "";
   const std::string atLimit =
       rep.newton.linearAtLimit ? " (" + std::to_string(rep.newton.linearAtLimit) + " at -ksp_max_it)" : "";
+  const std::string coarse = rep.coarseStart < 0 ? std::string()
+                             : "  coarse newton " + std::to_string(rep.coarse.newtonIterations) + " cg " +
+                                   std::to_string(rep.coarse.linearIterations) +
+                                   (rep.coarseStart ? " (start taken)" : " (start not taken)");
   // Progress: wall time since this run's first step and the remaining steps at this run's average pace.
   if (runStart_ < 0.0) {
     runStart_ = MPI_Wtime() - rep.wallSeconds;
@@ -302,10 +312,11 @@ PetscErrorCode RunOutput::record(const solver::Simulation &sim, const solver::St
   const double elapsed = MPI_Wtime() - runStart_;
   const double eta = elapsed / static_cast<double>(rep.step - firstStep_ + 1) * static_cast<double>(rep.steps - rep.step);
   PetscCall(PetscPrintf(comm_,
-                        "step %d/%d  t=%g  newton %d  solves %d  cg %d%s  min_alpha %.3e  |r| %.2e  %.3f s  %s%s  "
+                        "step %d/%d  t=%g  newton %d  solves %d  cg %d%s%s  min_alpha %.3e  |r| %.2e  %.3f s  %s%s  "
                         "[elapsed %s, eta %s]\n",
                         (int)rep.step, (int)rep.steps, rep.time, (int)rep.newton.newtonIterations,
-                        (int)rep.newton.linearSolves, (int)rep.newton.linearIterations, atLimit.c_str(), st.minAlpha,
+                        (int)rep.newton.linearSolves, (int)rep.newton.linearIterations, atLimit.c_str(), coarse.c_str(),
+                        st.minAlpha,
                         rep.newton.residualNorm, rep.wallSeconds, rep.reason.c_str(), halved.c_str(),
                         clockTime(elapsed).c_str(), clockTime(eta).c_str()));
   if (rep.step % opts_.outputEvery == 0 || rep.stopping) PetscCall(writeState(sim, rep.step, rep.time));

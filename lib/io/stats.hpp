@@ -25,6 +25,8 @@ struct StepStats {
   PetscInt linearSolves = 0, linearAtLimit = 0;
   double residual = 0.0;
   PetscInt barrierCells = 0, barrierFallback = 0;
+  PetscInt coarseNewton = 0, coarseLinear = 0;  // the nested iteration's coarse levels (-coarse_mesh)
+  int coarseStart = -1;                         // -1 no nested start, 0 not taken, 1 taken
 };
 
 class StatsWriter {

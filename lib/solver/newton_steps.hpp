@@ -40,6 +40,7 @@ struct IterationRecord {
   char filter = 'c';        // element Hessian filter of this iteration: c(lamp), a(bs), n(one)
   bool accelerated = false; // the update used the subspace step
   double rotation = 0.0;    // the rotational update's angle scale (1, 2, 4, ...; 0: plain direction)
+  int level = 0;            // nested iteration: 0 the run's mesh, k the k-th -coarse_mesh
 };
 
 struct NewtonResult {

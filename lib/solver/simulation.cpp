@@ -1,5 +1,7 @@
 #include "solver/simulation.hpp"
 
+#include "solver/coarse_level.hpp"
+
 #include "core/options.hpp"
 #include "solver/solver_options.hpp"
 #include "preprocess/tutte.hpp"
@@ -48,11 +50,18 @@ PetscErrorCode readSimulationOptions(SimulationOptions *o) {
     PetscCall(core::get(opt::predictorStart, &ps));
     o->predictorStart = ps;
   }
+  PetscBool nested = PETSC_FALSE;
+  PetscCall(core::get(opt::coarseMesh, &o->coarseMeshes, &nested));
+  if (nested)
+    PetscCall(core::get(opt::coarseSteps, &o->coarseSteps, nullptr,
+                        {nullptr, o->integrator == Integrator::Static ? "static" : "beuler"}));
   PetscCall(core::getChoice(opt::onFailure, &o->onFailure));
   if (o->onFailure == FailurePolicy::HalveDt) PetscCall(core::get(opt::maxStepHalvings, &o->maxStepHalvings));
   PetscCall(readNewtonOptions(o->integrator == Integrator::BackwardEuler, nullptr, nullptr, &o->newton));
   PetscFunctionReturn(0);
 }
+
+Simulation::Simulation() = default;
 
 Simulation::~Simulation() {
   for (Vec *v : {&x_, &v_, &xPrev_, &vPrev_, &xTilde_})
@@ -78,6 +87,7 @@ PetscErrorCode Simulation::setup(fem::Discretization &disc, const SimulationOpti
   PetscCall(applyInitialState());
   PetscCall(PetscLogStageGetId("solve", &solveStage_));
   if (solveStage_ < 0) PetscCall(PetscLogStageRegister("solve", &solveStage_));
+  PetscCall(setupCoarseLevels());
   PetscFunctionReturn(0);
 }
 
@@ -272,6 +282,12 @@ PetscErrorCode Simulation::advance(double dt, double loadTarget, int depth, Newt
   }
   PetscCall(disc_->setStep(trial));
   if (dynamic && opts_.predictorStart) PetscCall(startFromPrediction());
+  if (depth == 0 && nestedStep(currentStep_)) {  // the first attempt of the step, not its halves
+    bool used = false;
+    PetscCall(startFromCoarse(dt, loadTarget, &used));
+    coarseStart_ = used ? 1 : 0;
+    if (!used && currentStep_ == 1 && completedSteps_ == 0 && opts_.detachedStart) PetscCall(detachedStart(acc));
+  }
   {
     Vec xLocal;
     PetscInt fallback = 0;
@@ -343,14 +359,21 @@ PetscErrorCode Simulation::run(StepObserver *observer, RunSummary *summary) {
     rep.step = step;
     rep.steps = steps;
     rep.time = startTime + static_cast<double>(step - first + 1) * opts_.dt;
-    if (step == 1 && opts_.detachedStart) PetscCall(detachedStart(&rep.newton));
+    currentStep_ = step;
+    coarseWork_ = NewtonResult();
+    coarseStart_ = -1;
+    if (step == 1 && opts_.detachedStart && !nestedStep(step)) PetscCall(detachedStart(&rep.newton));
     PetscCall(advance(opts_.dt, loadTarget, 0, &rep.newton, &rep.ok, &rep.reason));
+    rep.coarse = coarseWork_;
+    rep.coarseStart = coarseStart_;
     time_ = rep.time;
     completedSteps_ = step;
     rep.wallSeconds = MPI_Wtime() - t0;
     rep.stopping = step == steps || (!rep.ok && opts_.onFailure == FailurePolicy::Stop);
     totalNewton += rep.newton.newtonIterations;
     totalLinear += rep.newton.linearIterations;
+    summary->coarseNewton += rep.coarse.newtonIterations;
+    summary->coarseLinear += rep.coarse.linearIterations;
     totalSeconds += rep.wallSeconds;
     summary->assemblySeconds += rep.newton.assemblySeconds;
     summary->stepsDone = step;
@@ -367,6 +390,9 @@ PetscErrorCode Simulation::run(StepObserver *observer, RunSummary *summary) {
   summary->avgNewton = totalNewton / n;
   summary->avgLinear = totalLinear / n;
   summary->avgSeconds = totalSeconds / n;
+  summary->coarseNewton /= n;
+  summary->coarseLinear /= n;
+  summary->nested = static_cast<bool>(coarse_);
   summary->totalSeconds = totalSeconds;
   summary->loadSubsteps = loadSubsteps_;
   PetscFunctionReturn(0);

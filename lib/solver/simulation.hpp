@@ -13,6 +13,10 @@
 
 #include "solver/newton.hpp"
 
+#include <memory>
+#include <string>
+#include <vector>
+
 namespace aries::solver {
 
 enum class Integrator { Static, BackwardEuler };
@@ -32,6 +36,8 @@ struct SimulationOptions {
   bool predictorStart = false;  // -predictor_start (backward Euler; on by default there)
   bool detachedStart = false;   // -static_detached_start (static runs from a synthetic start; on by default there)
   bool detachedShapeFirst = true;  // -static_detached_shape_first: the detached relaxation starts without volume terms
+  std::vector<std::string> coarseMeshes;  // -coarse_mesh, finest first (nested_start.cpp)
+  PetscInt coarseSteps = 1;                // -coarse_steps: the first N steps start from the coarse levels (-1: all)
   NewtonOptions newton;            // the Newton solver's (newton_options.hpp); the detached start's own are read
                                    // when it begins (prefix detached_, starting from these)
 };
@@ -42,6 +48,8 @@ PetscErrorCode readSimulationOptions(SimulationOptions *opts);
 struct RunSummary {
   PetscInt stepsDone = 0, failedSteps = 0;
   double avgNewton = 0.0, avgLinear = 0.0, avgSeconds = 0.0, totalSeconds = 0.0;
+  bool nested = false;                            // -coarse_mesh: coarse levels solved first in some steps
+  double coarseNewton = 0.0, coarseLinear = 0.0;  // their updates and linear iterations per step (all levels)
   double assemblySeconds = 0.0;  // of totalSeconds: the model's evaluations (energy, gradient, Hessian)
   PetscInt dofs = 0, safeguardHalvings = 0, loadSubsteps = 0;
   bool failed = false;  // stopped by a failed step (policy stop)
@@ -52,13 +60,16 @@ struct RunSummary {
 struct StepReport {
   PetscInt step = 0, steps = 0;
   double time = 0.0, wallSeconds = 0.0;
-  NewtonResult newton;  // accumulated over load sub-steps and step halvings
+  NewtonResult newton;  // accumulated over load sub-steps and step halvings (this mesh's solves only)
+  NewtonResult coarse;  // the coarse levels' solves of the nested start (every level; their history rows name it)
+  int coarseStart = -1;  // the nested start: -1 none this step, 0 solved but not taken, 1 taken
   std::string reason;
   bool ok = true;
   bool stopping = false;  // the run ends after this step (last step, or a failure under -on_failure stop)
 };
 
 class Simulation;
+struct CoarseLevel;  // nested_start.cpp
 
 // Receives the initial state and every step (output, statistics, console). Implemented above the solver layer
 // (lib/io), so the time loop does not depend on how results are written.
@@ -71,6 +82,7 @@ class StepObserver {
 
 class Simulation {
  public:
+  Simulation();
   ~Simulation();
   PetscErrorCode setup(fem::Discretization &disc, const SimulationOptions &opts);
   PetscErrorCode run(StepObserver *observer, RunSummary *summary);
@@ -95,6 +107,12 @@ class Simulation {
 
  private:
   PetscErrorCode applyInitialState();
+  // Nested iteration (nested_start.cpp): the coarse levels of -coarse_mesh, set up once; and the start of a step
+  // from the coarse levels' solution of the same step, taken when it lowers the total potential within the safeguard.
+  PetscErrorCode setupCoarseLevels();
+  bool nestedStep(PetscInt step) const;
+  PetscErrorCode startFromCoarse(double dt, double loadTarget, bool *used);
+  PetscErrorCode restrictTo(CoarseLevel &coarse, Vec xFine, bool positions, Vec xCoarse);
   PetscErrorCode detachedStart(NewtonResult *acc);  // detached_start.cpp
   PetscErrorCode advance(double dt, double loadTarget, int depth, NewtonResult *acc, bool *ok, std::string *reason);
   PetscErrorCode startFromPrediction();
@@ -109,6 +127,11 @@ class Simulation {
   PetscInt completedSteps_ = 0;
   double time_ = 0.0;
   PetscInt loadSubsteps_ = 0;
+  int level_ = 0;                         // 0: the mesh of the run; k: the k-th -coarse_mesh
+  PetscInt currentStep_ = 0;              // the step being solved
+  std::unique_ptr<CoarseLevel> coarse_;   // the next coarser level, if any
+  NewtonResult coarseWork_;               // the current step's solves on the coarser levels
+  int coarseStart_ = -1;                  // and whether their solution started this level's (StepReport)
 };
 
 

@@ -60,6 +60,23 @@ inline constexpr const OptionDecl *kSteppingOptions[] = {
     &integrator, &dt, &steps, &initial, &scrambleVolumeRatio, &scrambleSeed, &detachedStart, &detachedShapeFirst,
     &predictorStart, &onFailure, &maxStepHalvings};
 
+// ---- nested iteration (solver/nested_start.cpp) ----
+using core::wordsOption;
+inline constexpr OptionDecl coarseMesh =
+    wordsOption("-coarse_mesh", "FILE[,FILE...]",
+                "coarse tet meshes of the same body (.msh or .h5), finest first: a step of -coarse_steps is solved on "
+                "the coarsest first and each solution, interpolated, starts the next finer solve (see Nested "
+                "iteration below)")
+        .otherwise("none");
+inline constexpr OptionDecl coarseSteps =
+    intOption("-coarse_steps", "N",
+              "with -coarse_mesh: the first N steps start from the coarse levels' solution (-1: every step); measured "
+              "in docs/nested.md")
+        .byDefault("-1", "static", "1", "beuler")
+        .atLeast(-1);
+
+inline constexpr const OptionDecl *kNestedOptions[] = {&coarseMesh, &coarseSteps};
+
 // ---- Newton ----
 inline constexpr OptionDecl newtonTol =
     realOption("-newton_tol", "X",
