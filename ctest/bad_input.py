@@ -246,9 +246,9 @@ def case_defs():
                                     r"\.msh' \(coarse meshes come coarsest last\)")
     d["coarse_mesh_other_body"] = (lambda: ["-dm_plex_filename", good_mesh(), "-coarse_mesh",
                                             write("far.msh", FAR_TET_MSH)],
-                                   r"option -coarse_mesh \('.*far\.msh' for '.*good\.msh'\): vertex \d+ of "
-                                   r"'.*good\.msh' is farther than the largest cell .* from every cell of '.*far\.msh': "
-                                   r"the two meshes are not of the same body")
+                                   r"option -coarse_mesh \('.*far\.msh' for '.*good\.msh'\), its cell centroids: a "
+                                   r"point of '.*far\.msh' is farther than the largest cell .* from every cell of "
+                                   r"'.*good\.msh': the two meshes are not of the same body")
     d["coarse_mesh_missing"] = (lambda: ["-dm_plex_filename", good_mesh(), "-coarse_mesh",
                                          os.path.join(ARGS.work, "missing.msh")],
                                 r"option -coarse_mesh: mesh file '.*missing\.msh' does not exist or is not readable")

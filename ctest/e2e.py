@@ -1768,6 +1768,57 @@ def case_nested_inside_out():
         fail("singular cells after 3 steps: min alpha %s" % rows[-1]["min_alpha"])
 
 
+def case_nested_cell_files():
+    """Per-cell files reach the coarse level of the nested iteration: each coarse cell reads -fiber_file at the fine
+    cell that contains its centroid. The static cylinder compression (as nested_ranks_agree) with energy fiber
+    (gamma 50) on the 17.8k-tet cylinder, 1.8k-tet coarse level, -newton_tol 1e-8. (1) A fiber field that turns with
+    the angle about the axis: the nested solve starts every load step from the coarse level (coarse_start 1) and ends
+    at the plain solve's equilibrium (1e-6 L: two solves stopped by the step test at 1e-8 L, 6.8e-8 L apart when
+    written). (2) One fiber in every row of the file: the same positions as the
+    uniform -fiber (1e-12 L), so the coarse level read the file, not a default."""
+    fine, coarse = sized_mesh("cylinder", "default"), mesh("cylinder")
+    base = ["-options_file", os.path.join(ARGS.root, "options", "cylinder_compress.yml"), "-dm_plex_filename", fine,
+            "-integrator", "static", "-steps", "2", "-newton_tol", "1e-8", "-energy", "fiber", "-gamma", "50"]
+    probe = "nested_files_probe_np%d" % ARGS.ranks
+    run(["-dm_plex_filename", fine, "-output", out_base(probe)], tag=probe)
+    rest, cells, _, _ = read_state(out_base(probe))
+    centroid = rest[cells].mean(axis=1)
+    angle = np.arctan2(centroid[:, 1], centroid[:, 0])
+    turning = ["%.17g %.17g 0.5" % (-math.sin(t), math.cos(t)) for t in angle]
+
+    def write_file(name, rows):
+        path = os.path.join(ARGS.work, name)
+        with open(path, "w") as fh:
+            fh.write("# fibers\n%d\n%s\n" % (len(rows), "\n".join(rows)))
+        return path
+
+    results = {}
+    cases = (("plain", ["-fiber_file", write_file("turning.fibers", turning)]),
+             ("nested", ["-fiber_file", os.path.join(ARGS.work, "turning.fibers"), "-coarse_mesh", coarse]),
+             ("file_uniform", ["-fiber_file", write_file("uniform.fibers", ["1 1 0"] * len(cells)), "-coarse_mesh",
+                               coarse]),
+             ("option_uniform", ["-fiber", "1,1,0", "-coarse_mesh", coarse]))
+    for name, extra in cases:
+        tag = "nested_files_%s_np%d" % (name, ARGS.ranks)
+        run(base + extra + ["-output", out_base(tag), "-output_every", "2", "-stats", out_base(tag) + ".csv"], tag=tag)
+        results[name] = (stats(out_base(tag) + ".csv"), read_state(out_base(tag))[2])
+    L = np.linalg.norm(rest.max(0) - rest.min(0))
+    d_turning = np.abs(results["plain"][1] - results["nested"][1]).max() / L
+    d_uniform = np.abs(results["file_uniform"][1] - results["option_uniform"][1]).max() / L
+    print("updates (fine, coarse, start): %s; nested vs plain %.2e L, uniform file vs -fiber %.2e L" % (
+        {k: [(r["newton_its"], r["coarse_newton_its"], r["coarse_start"]) for r in v[0]] for k, v in results.items()},
+        d_turning, d_uniform))
+    for name, (rows, _) in results.items():
+        if any(r["reason"] not in CONVERGED for r in rows):
+            fail("%s: a load step did not converge" % name)
+        if name != "plain" and any(r["coarse_start"] != "1" for r in rows):
+            fail("%s: a load step did not start from the coarse level" % name)
+    if not d_turning <= 1e-6:
+        fail("nested and plain end %.3e L apart (limit 1e-6 L)" % d_turning)
+    if not d_uniform <= 1e-12:
+        fail("a uniform -fiber_file and -fiber end %.3e L apart (limit 1e-12 L)" % d_uniform)
+
+
 def case_nested_ranks_agree():
     """Nested iteration on 1 and 2 ranks (the coarse and the fine mesh partitioned independently, the interpolation
     weights found on whichever rank holds the cell): the same positions to 1e-8 L (1.4e-12 L when written). The
@@ -1840,6 +1891,7 @@ CASES = {
     "nested_static_scramble": case_nested_static_scramble,
     "nested_patch": case_nested_patch,
     "nested_inside_out": case_nested_inside_out,
+    "nested_cell_files": case_nested_cell_files,
     "nested_ranks_agree": case_nested_ranks_agree,
 }
 

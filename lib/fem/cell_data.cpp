@@ -17,9 +17,10 @@ PetscErrorCode DiscretizationT<R, C>::setupCellData(Mesh &mesh, const FemOptions
   std::vector<double> fibers, fibers2;
   const bool hasFiberFile = !o.fiberFile.empty(), hasFiber2File = !o.fiber2File.empty();
   if (hasFiberFile)  // per local cell
-    PetscCall(readCellVectorFile(comm(), o.fiberFile, "-fiber_file", mesh.numCellsGlobal, mesh.naturalCell, C, &fibers));
+    PetscCall(readCellVectorFile(comm(), o.fiberFile, "-fiber_file", mesh.fileCellCount(), mesh.fileCells(), C,
+                                 &fibers));
   if (hasFiber2File)
-    PetscCall(readCellVectorFile(comm(), o.fiber2File, "-fiber2_file", mesh.numCellsGlobal, mesh.naturalCell, C,
+    PetscCall(readCellVectorFile(comm(), o.fiber2File, "-fiber2_file", mesh.fileCellCount(), mesh.fileCells(), C,
                                  &fibers2));
   // Energies with a per-cell field (targets, curvature ratios) carry per-cell data.
   bool cellField = false;

@@ -34,6 +34,14 @@ struct Mesh {
     PetscInt dim, tag;
   };
   std::map<std::string, PhysicalGroup> physicalNames;  // gmsh $PhysicalNames
+  // The cells of per-cell input files (-fiber_file, -target_file) that the local cells read: their own natural ids,
+  // except on a coarse level of the nested iteration (solver/nested_start.cpp), whose cells read the run's files at
+  // the cell of the run's mesh that contains their centroid.
+  bool readsOtherMeshFiles = false;
+  std::vector<PetscInt> fileCell;  // per local cell, where readsOtherMeshFiles
+  PetscInt fileCellsGlobal = 0;    // the cells of the mesh the files belong to, where readsOtherMeshFiles
+  const std::vector<PetscInt> &fileCells() const { return readsOtherMeshFiles ? fileCell : naturalCell; }
+  PetscInt fileCellCount() const { return readsOtherMeshFiles ? fileCellsGlobal : numCellsGlobal; }
   Eigen::Vector3d boxMin = Eigen::Vector3d::Zero(), boxMax = Eigen::Vector3d::Zero();
   double diagonal = 1.0;  // L: bounding-box diagonal of the rest shape (paper Sec. 6)
 

@@ -23,6 +23,7 @@ struct SourceCell {
   Eigen::Matrix3d inverse;         // of [X1 - X0, X2 - X0, X3 - X0]
   Eigen::Vector3d lo, hi;          // bounding box
   PetscInt natural;
+  PetscInt local;                  // c - cStart
 };
 
 struct Located {
@@ -157,114 +158,161 @@ PetscErrorCode sourceCells(const Mesh &mesh, const std::vector<Eigen::Vector3d> 
       s.hi = s.hi.cwiseMax(rest[s.corner[i]]);
     }
     s.natural = mesh.naturalCell[c - mesh.cStart];
+    s.local = c - mesh.cStart;
     *diameter = std::max(*diameter, (s.hi - s.lo).norm());
     cells->push_back(s);
   }
   PetscFunctionReturn(0);
 }
 
+// Where points lie in a source mesh: for each point (any rank's list) the rank whose cell was chosen, that cell's index
+// in the rank's SourceCell list, and its distance (0 inside). Collective.
+struct CellSearch {
+  std::vector<Eigen::Vector3d> rest;  // the source's local vertices
+  std::vector<SourceCell> cells;      // its owned cells
+  double margin = 0.0;                // the largest source cell's diameter (global)
+  std::vector<int> winner;            // per point
+  std::vector<double> cell, distance;
+
+  PetscErrorCode setup(const Mesh &source) {
+    PetscFunctionBeginUser;
+    PetscCall(vertexRestPositions(source, &rest));
+    PetscCall(sourceCells(source, rest, &cells, &margin));
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &margin, 1, MPI_DOUBLE, MPI_MAX, comm(source)));
+    PetscFunctionReturn(0);
+  }
+  // `uncovered`: the position in `points` of a point farther than the margin from every cell, or -1.
+  PetscErrorCode find(const Mesh &source, const std::vector<Eigen::Vector3d> &points, long *uncovered) {
+    MPI_Comm c = comm(source);
+    PetscMPIInt size;
+    PetscFunctionBeginUser;
+    PetscCallMPI(MPI_Comm_size(c, &size));
+    // Every rank's box of cells, enlarged by the margin: where the points it may hold a candidate for lie.
+    double box[6] = {kNotFound, kNotFound, kNotFound, -kNotFound, -kNotFound, -kNotFound};
+    for (const auto &sc : cells)
+      for (int d = 0; d < 3; ++d) {
+        box[d] = std::min(box[d], sc.lo[d] - margin);
+        box[3 + d] = std::max(box[3 + d], sc.hi[d] + margin);
+      }
+    std::vector<double> boxes(6 * static_cast<size_t>(size));
+    PetscCallMPI(MPI_Allgather(box, 6, MPI_DOUBLE, boxes.data(), 6, MPI_DOUBLE, c));
+    // Each point to every rank whose box holds it (a point's rows are consecutive).
+    std::vector<int> dest;
+    std::vector<size_t> rowPoint;
+    std::vector<double> rows;
+    for (size_t k = 0; k < points.size(); ++k) {
+      const Eigen::Vector3d &p = points[k];
+      for (int r = 0; r < size; ++r) {
+        const double *b = &boxes[6 * static_cast<size_t>(r)];
+        if (p[0] < b[0] || p[1] < b[1] || p[2] < b[2] || p[0] > b[3] || p[1] > b[4] || p[2] > b[5]) continue;
+        dest.push_back(r);
+        rowPoint.push_back(k);
+        rows.insert(rows.end(), {p[0], p[1], p[2]});
+      }
+    }
+    core::RowRoute ask;
+    PetscCall(ask.setup(c, dest));
+    std::vector<double> received, replies, answers;
+    PetscCall(ask.forward(rows, 3, &received));
+    CellGrid grid(cells, rest, 1e-8 * margin);
+    for (size_t k = 0; 3 * k < received.size(); ++k) {
+      const Located best = grid.locate(Eigen::Vector3d(received[3 * k], received[3 * k + 1], received[3 * k + 2]),
+                                       margin, static_cast<long>(k));
+      replies.insert(replies.end(), {best.distance, static_cast<double>(best.natural), static_cast<double>(best.cell)});
+    }
+    PetscCall(ask.backward(replies, 3, &answers));
+    // Per point the best answer over the ranks asked.
+    winner.assign(points.size(), -1);
+    cell.assign(points.size(), -1.0);
+    distance.assign(points.size(), kNotFound);
+    std::vector<PetscInt> natural(points.size(), -1);
+    for (size_t e = 0; e < rowPoint.size(); ++e) {
+      const size_t k = rowPoint[e];
+      const Located cand{answers[3 * e], static_cast<PetscInt>(answers[3 * e + 1]), 0};
+      if (cand.distance < kNotFound && (winner[k] < 0 || cand.better(Located{distance[k], natural[k], 0}))) {
+        winner[k] = dest[e];
+        cell[k] = answers[3 * e + 2];
+        distance[k] = cand.distance;
+        natural[k] = cand.natural;
+      }
+    }
+    *uncovered = -1;
+    for (size_t k = 0; k < points.size() && *uncovered < 0; ++k)
+      if (winner[k] < 0) *uncovered = static_cast<long>(k);
+    PetscFunctionReturn(0);
+  }
+  static MPI_Comm comm(const Mesh &m) {
+    MPI_Comm c;
+    PetscObjectGetComm((PetscObject)m.dm, &c);
+    return c;
+  }
+};
+
+std::string uncoveredMessage(const std::string &what, const std::string &point, const Mesh &target,
+                             const Mesh &source, double margin) {
+  return what + ": " + point + " of '" + target.filename + "' is farther than the largest cell (" +
+         std::to_string(margin) + ") from every cell of '" + source.filename +
+         "': the two meshes are not of the same body (same surface, same units)";
+}
+
 }  // namespace
 
 PetscErrorCode VertexInterpolation::setup(const Mesh &source, const Mesh &target, const std::string &what) {
   MPI_Comm comm;
-  PetscMPIInt size;
   PetscFunctionBeginUser;
   PetscCall(PetscObjectGetComm((PetscObject)source.dm, &comm));
-  PetscCallMPI(MPI_Comm_size(comm, &size));
-  std::vector<Eigen::Vector3d> sourceRest, targetRest;
-  PetscCall(vertexRestPositions(source, &sourceRest));
-  PetscCall(vertexRestPositions(target, &targetRest));
-  std::vector<SourceCell> cells;
-  double margin = 0.0;
-  PetscCall(sourceCells(source, sourceRest, &cells, &margin));
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &margin, 1, MPI_DOUBLE, MPI_MAX, comm));
-
-  // Every rank's box of cells, enlarged by the margin: where the points it may hold a candidate for lie.
-  double box[6] = {kNotFound, kNotFound, kNotFound, -kNotFound, -kNotFound, -kNotFound};
-  for (const auto &c : cells)
-    for (int d = 0; d < 3; ++d) {
-      box[d] = std::min(box[d], c.lo[d] - margin);
-      box[3 + d] = std::max(box[3 + d], c.hi[d] + margin);
-    }
-  std::vector<double> boxes(6 * static_cast<size_t>(size));
-  PetscCallMPI(MPI_Allgather(box, 6, MPI_DOUBLE, boxes.data(), 6, MPI_DOUBLE, comm));
-
-  // Every local target vertex (ghosts too: a field on the target's cells then needs no exchange of its own), each
-  // sent to every rank whose box holds it.
-  std::vector<int> dest;
-  std::vector<PetscInt> rowVertex;
-  std::vector<double> rows;
-  std::string uncovered;
-  targetVertices_ = target.vEnd - target.vStart;
-  for (PetscInt v = 0; v < targetVertices_; ++v) {
-    const Eigen::Vector3d &p = targetRest[v];
-    bool any = false;
-    for (int r = 0; r < size; ++r) {
-      const double *b = &boxes[6 * static_cast<size_t>(r)];
-      if (p[0] < b[0] || p[1] < b[1] || p[2] < b[2] || p[0] > b[3] || p[1] > b[4] || p[2] > b[5]) continue;
-      dest.push_back(r);
-      rowVertex.push_back(v);
-      rows.insert(rows.end(), {p[0], p[1], p[2]});
-      any = true;
-    }
-    if (!any && uncovered.empty()) uncovered = std::to_string(target.naturalVertex[v]);
-  }
-  core::RowRoute ask;
-  PetscCall(ask.setup(comm, dest));
-  std::vector<double> points, replies;
-  PetscCall(ask.forward(rows, 3, &points));
-  CellGrid grid(cells, sourceRest, 1e-8 * margin);
-  for (size_t k = 0; 3 * k < points.size(); ++k) {
-    const Located best = grid.locate(Eigen::Vector3d(points[3 * k], points[3 * k + 1], points[3 * k + 2]), margin,
-                                     static_cast<long>(k));
-    replies.insert(replies.end(), {best.distance, static_cast<double>(best.natural), static_cast<double>(best.cell)});
-  }
-  std::vector<double> answers;
-  PetscCall(ask.backward(replies, 3, &answers));
-
-  // Per vertex the best answer over the ranks asked (its rows are consecutive).
-  std::vector<int> winner;
-  targetVertex_.clear();
-  std::vector<double> chosen;  // per winning row: the source cell (local on the winner) and the point
-  double outside = 0.0;
-  for (size_t k = 0; k < rowVertex.size();) {
-    size_t bestRow = k;
-    Located best{answers[3 * k], static_cast<PetscInt>(answers[3 * k + 1]), 0};
-    size_t e = k + 1;
-    for (; e < rowVertex.size() && rowVertex[e] == rowVertex[k]; ++e) {
-      const Located cand{answers[3 * e], static_cast<PetscInt>(answers[3 * e + 1]), 0};
-      if (cand.better(best)) {
-        best = cand;
-        bestRow = e;
-      }
-    }
-    if (best.distance >= kNotFound) {
-      if (uncovered.empty()) uncovered = std::to_string(target.naturalVertex[rowVertex[k]]);
-    } else {
-      outside = std::max(outside, best.distance);
-      winner.push_back(dest[bestRow]);
-      targetVertex_.push_back(rowVertex[k]);
-      chosen.insert(chosen.end(), {answers[3 * bestRow + 2], rows[3 * bestRow], rows[3 * bestRow + 1], rows[3 * bestRow + 2]});
-    }
-    k = e;
-  }
+  CellSearch search;
+  PetscCall(search.setup(source));
+  std::vector<Eigen::Vector3d> points;
+  PetscCall(vertexRestPositions(target, &points));
+  long uncovered = -1;
+  PetscCall(search.find(source, points, &uncovered));
   PetscCall(core::collectiveCheck(
-      comm, !uncovered.empty(),
-      what + ": vertex " + uncovered + " of '" + target.filename + "' is farther than the largest cell (" +
-          std::to_string(margin) + ") from every cell of '" + source.filename +
-          "': the two meshes are not of the same body (same surface, same units)"));
+      comm, uncovered >= 0,
+      uncoveredMessage(what, "vertex " + std::to_string(uncovered >= 0 ? target.naturalVertex[uncovered] : -1), target,
+                       source, search.margin)));
+  targetVertices_ = static_cast<PetscInt>(points.size());
+  targetVertex_.resize(points.size());
+  std::vector<double> chosen;  // per point: the cell on its winner and the point
+  double outside = 0.0;
+  for (size_t k = 0; k < points.size(); ++k) {
+    targetVertex_[k] = static_cast<PetscInt>(k);
+    chosen.insert(chosen.end(), {search.cell[k], points[k][0], points[k][1], points[k][2]});
+    outside = std::max(outside, search.distance[k]);
+  }
   PetscCallMPI(MPI_Allreduce(&outside, &outside_, 1, MPI_DOUBLE, MPI_MAX, comm));
-
-  PetscCall(route_.setup(comm, winner));
+  PetscCall(route_.setup(comm, search.winner));
   std::vector<double> mine;
   PetscCall(route_.forward(chosen, 4, &mine));
   corner_.resize(mine.size() / 4);
   weight_.resize(mine.size() / 4);
   for (size_t k = 0; k < corner_.size(); ++k) {
-    const SourceCell &c = cells[static_cast<size_t>(mine[4 * k])];
+    const SourceCell &c = search.cells[static_cast<size_t>(mine[4 * k])];
     corner_[k] = c.corner;
     weight_[k] = barycentric(c, Eigen::Vector3d(mine[4 * k + 1], mine[4 * k + 2], mine[4 * k + 3]));
   }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode valuesOfCellsAt(const Mesh &source, const std::vector<PetscInt> &cellValues, const Mesh &target,
+                               const std::vector<Eigen::Vector3d> &points, const std::string &what,
+                               std::vector<PetscInt> *values) {
+  MPI_Comm comm;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectGetComm((PetscObject)source.dm, &comm));
+  CellSearch search;
+  PetscCall(search.setup(source));
+  long uncovered = -1;
+  PetscCall(search.find(source, points, &uncovered));
+  PetscCall(core::collectiveCheck(comm, uncovered >= 0,
+                                  uncoveredMessage(what, "a point", target, source, search.margin)));
+  core::RowRoute route;
+  PetscCall(route.setup(comm, search.winner));
+  std::vector<long long> asked, answers, got;
+  PetscCall(route.forward(std::vector<long long>(search.cell.begin(), search.cell.end()), 1, &asked));
+  for (long long k : asked) answers.push_back(cellValues[search.cells[static_cast<size_t>(k)].local]);
+  PetscCall(route.backward(answers, 1, &got));
+  values->assign(got.begin(), got.end());
   PetscFunctionReturn(0);
 }
 

@@ -46,4 +46,12 @@ class VertexInterpolation {
   double outside_ = 0.0;
 };
 
+// For each of `points` (rest positions, this rank's list), the value `cellValues` gives (one per local cell of
+// `source`, index c - cStart) to the source cell that contains the point, or the nearest one; chosen as
+// VertexInterpolation chooses, the same on any number of ranks. A point farther than the largest source cell from
+// every one is an error naming `what` and the two meshes (`target`: where the points come from). Collective.
+PetscErrorCode valuesOfCellsAt(const Mesh &source, const std::vector<PetscInt> &cellValues, const Mesh &target,
+                               const std::vector<Eigen::Vector3d> &points, const std::string &what,
+                               std::vector<PetscInt> *values);
+
 }  // namespace aries::fem

@@ -38,7 +38,7 @@ PetscErrorCode TargetField::read(const Mesh &mesh, int dim, bool uniformTargetGi
               along_, across_);
     source_ = Source::Activation;
   } else if (hasFile) {
-    PetscCall(readTargetKeyframeFile(comm, file, mesh.numCellsGlobal, mesh.naturalCell, comps_, &times_, &local_));
+    PetscCall(readTargetKeyframeFile(comm, file, mesh.fileCellCount(), mesh.fileCells(), comps_, &times_, &local_));
     ncells_ = static_cast<size_t>(mesh.cEnd - mesh.cStart);
     source_ = Source::Keyframes;
   }

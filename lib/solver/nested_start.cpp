@@ -9,7 +9,8 @@
 // coarse mesh could not represent. Each coarse level is a Simulation of its own (its state, velocities, Newton solver,
 // and its own coarser level), so any number of levels nest.
 //
-// The coarse level solves the same step:
+// Each coarse level reads the run's options on its own mesh; per-cell files are read at the fine cell that contains
+// each coarse cell's centroid. The coarse level solves the same step:
 //  * a synthetic start's first step (scramble, invert, collapse; not a restart): from the coarse mesh's own synthetic
 //    start (the same rule; for scramble its own random positions, since a fine scramble has no coarse counterpart),
 //    with its own detached start for static runs; the fine solve starts from the rest positions plus the interpolated
@@ -69,6 +70,26 @@ PetscErrorCode addVertexField(const fem::Discretization &disc, const std::vector
   PetscFunctionReturn(0);
 }
 
+// Per-cell input files (-fiber_file, -target_file) give values for the cells of the run's mesh: each coarse cell reads
+// them at the cell of the finer mesh that contains its rest centroid (that cell's own file cell on a deeper level).
+PetscErrorCode readFilesAtFineCells(const fem::Mesh &fine, const std::string &what, fem::Mesh *coarse) {
+  PetscFunctionBeginUser;
+  std::vector<Eigen::Vector3d> rest, centroids;
+  PetscCall(fem::vertexRestPositions(*coarse, &rest));
+  std::vector<PetscInt> verts;
+  for (PetscInt c = coarse->cStart; c < coarse->cEnd; ++c) {
+    PetscCall(fem::closureVertices(*coarse, c, &verts));
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (PetscInt v : verts) sum += rest[v];
+    centroids.push_back(sum / static_cast<double>(verts.size()));
+  }
+  PetscCall(fem::valuesOfCellsAt(fine, fine.fileCells(), *coarse, centroids, what + ", its cell centroids",
+                                 &coarse->fileCell));
+  coarse->fileCellsGlobal = fine.fileCellCount();
+  coarse->readsOtherMeshFiles = true;
+  PetscFunctionReturn(0);
+}
+
 }  // namespace
 
 PetscErrorCode Simulation::setupCoarseLevels() {
@@ -82,15 +103,6 @@ PetscErrorCode Simulation::setupCoarseLevels() {
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
             "option -coarse_mesh: nested iteration needs tetrahedral meshes, and '%s' is a surface mesh",
             fine.filename.c_str());
-  for (const char *perCell : {"-fiber_file", "-target_file"}) {
-    PetscBool given = PETSC_FALSE;
-    PetscCall(PetscOptionsHasName(nullptr, nullptr, perCell, &given));
-    if (given)
-      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
-              "option -coarse_mesh: %s gives values for the cells of '%s' only, and nested iteration does not carry "
-              "per-cell files to a coarse mesh; drop -coarse_mesh for this scene",
-              perCell, fine.filename.c_str());
-  }
   if (!std::ifstream(file))
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
             "option -coarse_mesh: mesh file '%s' does not exist or is not readable; generate catalog meshes with "
@@ -103,6 +115,8 @@ PetscErrorCode Simulation::setupCoarseLevels() {
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
             "option -coarse_mesh: '%s' has %d cells, not fewer than the %d of '%s' (coarse meshes come coarsest last)",
             file.c_str(), (int)c.mesh.numCellsGlobal, (int)fine.numCellsGlobal, fine.filename.c_str());
+  const std::string what = "option -coarse_mesh ('" + file + "' for '" + fine.filename + "')";
+  PetscCall(readFilesAtFineCells(fine, what, &c.mesh));
   fem::FemOptions femOpts;
   PetscCall(fem::readFemOptions(c.mesh, &femOpts));
   const bool dynamic = opts_.integrator == Integrator::BackwardEuler;
@@ -112,7 +126,6 @@ PetscErrorCode Simulation::setupCoarseLevels() {
   coarseOpts.onFailure = FailurePolicy::Stop;  // a failed coarse solve hands its start back and is not used
   c.sim.level_ = level_ + 1;
   PetscCall(c.sim.setup(*c.disc, coarseOpts));
-  const std::string what = "option -coarse_mesh ('" + file + "' for '" + fine.filename + "')";
   PetscCall(c.toFine.setup(c.mesh, fine, what));
   PetscCall(c.fromFine.setup(fine, c.mesh, what));
   PetscCall(PetscPrintf(comm,
