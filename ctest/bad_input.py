@@ -251,7 +251,10 @@ def case_defs():
                                    r"'.*good\.msh': the two meshes are not of the same body")
     d["coarse_mesh_missing"] = (lambda: ["-dm_plex_filename", good_mesh(), "-coarse_mesh",
                                          os.path.join(ARGS.work, "missing.msh")],
-                                r"option -coarse_mesh: mesh file '.*missing\.msh' does not exist or is not readable")
+                                r"mesh file '.*missing\.msh' \(-coarse_mesh\) does not exist or is not readable")
+    d["coarse_mesh_truncated"] = (lambda: ["-dm_plex_filename", good_mesh(), "-coarse_mesh",
+                                           write("trunc_coarse.msh", TET_MSH[: TET_MSH.index("$Elements") + 12])],
+                                  r"trunc_coarse\.msh' line \d+: file ends inside \$Elements \(truncated\?\)")
     d["coarse_mesh_surface"] = (lambda: ["-dm_plex_filename", write("flat_tri.msh", TRI_MSH.replace("Z", "0")),
                                          "-coarse_mesh", good_mesh()],
                                 r"option -coarse_mesh: nested iteration needs tetrahedral meshes, and '.*flat_tri\.msh' "

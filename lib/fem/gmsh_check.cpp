@@ -230,17 +230,17 @@ bool validateSections(Reader &r, SectionParser parseNodes, SectionParser parseEl
   return true;
 }
 
-std::string validateFile(const std::string &file, GmshFacts *facts) {
+std::string validateFile(const std::string &file, const std::string &option, GmshFacts *facts) {
   struct stat st;
   if (stat(file.c_str(), &st) != 0)
-    return "mesh file '" + file + "' (-dm_plex_filename) does not exist or is not readable; generate scene meshes with "
+    return "mesh file '" + file + "' (" + option + ") does not exist or is not readable; generate scene meshes with "
            "meshes/generate.sh NAME";
-  if (!S_ISREG(st.st_mode)) return "mesh file '" + file + "' (-dm_plex_filename) is not a regular file";
+  if (!S_ISREG(st.st_mode)) return "mesh file '" + file + "' (" + option + ") is not a regular file";
   const auto dot = file.find_last_of('.');
   if (dot == std::string::npos || file.substr(dot) != ".msh")
-    return "mesh file '" + file + "' (-dm_plex_filename) must be a gmsh file with the extension .msh";
+    return "mesh file '" + file + "' (" + option + ") must be a gmsh file with the extension .msh";
   std::ifstream in(file, std::ios::binary);
-  if (!in) return "mesh file '" + file + "' (-dm_plex_filename) is not readable";
+  if (!in) return "mesh file '" + file + "' (" + option + ") is not readable";
   Reader r(in, file);
   std::string l;
   if (!r.line(&l) || l != "$MeshFormat") {
@@ -269,12 +269,12 @@ std::string validateFile(const std::string &file, GmshFacts *facts) {
 
 }  // namespace
 
-PetscErrorCode validateGmshFile(MPI_Comm comm, const std::string &file, GmshFacts *facts) {
+PetscErrorCode validateGmshFile(MPI_Comm comm, const std::string &file, const std::string &option, GmshFacts *facts) {
   PetscMPIInt rank;
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   GmshFacts mine;
-  const std::string err = rank == 0 ? validateFile(file, &mine) : std::string();
+  const std::string err = rank == 0 ? validateFile(file, option, &mine) : std::string();
   PetscCall(collectiveCheck(comm, !err.empty(), err));
   double packed[3] = {mine.coordinatesKnown ? 1.0 : 0.0, mine.zRange, mine.extent};
   PetscCallMPI(MPI_Bcast(packed, 3, MPI_DOUBLE, 0, comm));

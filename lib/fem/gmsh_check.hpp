@@ -20,6 +20,6 @@ struct GmshFacts {
 
 // Collective: rank 0 reads the file; every rank raises the same PETSC_ERR_USER_INPUT on a problem and receives the
 // same facts.
-PetscErrorCode validateGmshFile(MPI_Comm comm, const std::string &file, GmshFacts *facts);
+PetscErrorCode validateGmshFile(MPI_Comm comm, const std::string &file, const std::string &option, GmshFacts *facts);
 
 }  // namespace aries::fem

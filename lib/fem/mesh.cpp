@@ -203,7 +203,7 @@ PetscErrorCode readGmshMesh(MPI_Comm comm, Mesh *mesh, DM *serial, std::vector<P
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   GmshFacts facts;
-  PetscCall(validateGmshFile(comm, mesh->filename, &facts));
+  PetscCall(validateGmshFile(comm, mesh->filename, mesh->fileOption, &facts));
   PetscCall(parsePhysicalNames(comm, rank == 0 ? physicalNamesBlob(mesh->filename) : std::string(),
                                &mesh->physicalNames));
   // Without this PETSc 3.18 drops gmsh point groups (pinned vertex sets) instead of labelling them.
@@ -234,13 +234,14 @@ PetscErrorCode readGmshMesh(MPI_Comm comm, Mesh *mesh, DM *serial, std::vector<P
 
 using namespace loading;
 
-PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh, const std::string &file) {
+PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh, const std::string &file, const char *option) {
   PetscMPIInt size;
   PetscBool set = PETSC_FALSE;
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_size(comm, &size));
   if (file.empty()) PetscCall(core::get(opt::meshFile, &mesh->filename, &set));
   else mesh->filename = file, set = PETSC_TRUE;
+  mesh->fileOption = file.empty() ? "-dm_plex_filename" : option;
   if (!set)
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
             "no mesh: give -dm_plex_filename FILE.msh (gmsh format) or FILE.h5 (converted with -mesh_convert)");

@@ -22,6 +22,7 @@ namespace aries::fem {
 struct Mesh {
   DM dm = nullptr;  // distributed, interpolated DMPlex with coordinates and the gmsh labels
   std::string filename;
+  std::string fileOption = "-dm_plex_filename";  // the option that named the file (error messages)
   energies::ElementShape shape = energies::ElementShape::Tet;
   bool uvMap = false;  // -uv_map: planar elements (2D unknowns) on a 3D surface, rest = each 3D triangle
   PetscInt topoDim = 3, spaceDim = 3;
@@ -53,8 +54,9 @@ struct Mesh {
 // repartitioned in parallel by recursive coordinate bisection (the default; Debian's PETSc has no ParMETIS) or
 // PT-Scotch. Natural ids are the gmsh order either way, so the
 // results and the output files do not depend on the format.
-// `file` (optional) is read instead of -dm_plex_filename (a coarse mesh of the nested iteration, -coarse_mesh).
-PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh, const std::string &file = {});
+// `file` (optional) is read instead of -dm_plex_filename (a coarse mesh of the nested iteration), and the errors about
+// it name `option`.
+PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh, const std::string &file = {}, const char *option = nullptr);
 
 // -mesh_convert OUT.h5: reads the gmsh mesh -dm_plex_filename (with the options that shape its reading:
 // -dm_plex_gmsh_spacedim, -dm_plex_gmsh_use_regions) and writes its cells, coordinates and every label as arrays in the

@@ -43,9 +43,9 @@ struct Hdf5MeshFacts {
   std::string physicalNames, labelNames;  // "dim tag name" lines; one label name per line
 };
 
-std::string readHdf5MeshFacts(const std::string &file, Hdf5MeshFacts *facts) {
+std::string readHdf5MeshFacts(const std::string &file, const std::string &option, Hdf5MeshFacts *facts) {
   std::FILE *probe = std::fopen(file.c_str(), "rb");
-  if (!probe) return "cannot open mesh '" + file + "' (-dm_plex_filename)";
+  if (!probe) return "cannot open mesh '" + file + "' (" + option + ")";
   std::fclose(probe);
   H5E_auto2_t func;
   void *data;
@@ -57,20 +57,20 @@ std::string readHdf5MeshFacts(const std::string &file, Hdf5MeshFacts *facts) {
     return core::readScalarAttribute(f, name, H5T_NATIVE_LLONG, value);
   };
   if (f < 0) {
-    err = "mesh '" + file + "' (-dm_plex_filename) is not an HDF5 file";
+    err = "mesh '" + file + "' (" + option + ") is not an HDF5 file";
   } else if (!core::readStringAttribute(f, "aries_mesh_format", &format) ||
              format.compare(0, 11, "aries-mesh-") != 0) {
-    err = "mesh '" + file + "' (-dm_plex_filename) is an HDF5 file but not a mesh converted by aries (make one with "
+    err = "mesh '" + file + "' (" + option + ") is an HDF5 file but not a mesh converted by aries (make one with "
           "aries -dm_plex_filename MESH.msh -mesh_convert '" + file + "')";
   } else if (format != kMeshFormat) {
-    err = "mesh '" + file + "' (-dm_plex_filename) was converted by an older aries (format " + format + ", this one "
+    err = "mesh '" + file + "' (" + option + ") was converted by an older aries (format " + format + ", this one "
           "reads " + kMeshFormat + "); convert it again with -mesh_convert";
   } else if (!readInt("aries_num_cells", &facts->numCells) || !readInt("aries_num_vertices", &facts->numVertices) ||
              !readInt("aries_space_dim", &facts->spaceDim) || !readInt("aries_cell_dim", &facts->cellDim) ||
              !readInt("aries_corners", &facts->corners) ||
              !core::readStringAttribute(f, "aries_physical_names", &facts->physicalNames) ||
              !core::readStringAttribute(f, "aries_label_names", &facts->labelNames)) {
-    err = "mesh '" + file + "' (-dm_plex_filename) is incomplete: an aries_* attribute is missing; convert it again";
+    err = "mesh '" + file + "' (" + option + ") is incomplete: an aries_* attribute is missing; convert it again";
   }
   if (f >= 0) H5Fclose(f);
   H5Eset_auto2(H5E_DEFAULT, func, data);
@@ -264,7 +264,7 @@ PetscErrorCode readHdf5Mesh(MPI_Comm comm, Mesh *mesh, DM *dm, std::vector<Petsc
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   Hdf5MeshFacts facts;
   std::string err;
-  if (rank == 0) err = readHdf5MeshFacts(mesh->filename, &facts);
+  if (rank == 0) err = readHdf5MeshFacts(mesh->filename, mesh->fileOption, &facts);
   PetscCall(core::collectiveCheck(comm, !err.empty(), err));
   long long numbers[5] = {facts.numCells, facts.numVertices, facts.spaceDim, facts.cellDim, facts.corners};
   PetscCallMPI(MPI_Bcast(numbers, 5, MPI_LONG_LONG, 0, comm));
@@ -287,7 +287,7 @@ PetscErrorCode readHdf5Mesh(MPI_Comm comm, Mesh *mesh, DM *dm, std::vector<Petsc
   std::vector<double> coords;
   bool ok = file >= 0 && core::readBlockIntDataset(file, "/aries/cells", cellBlocks, corners, &cellRows) &&
             core::readBlockDataset(file, "/aries/vertices", vertexBlocks, spaceDim, &coords);
-  PetscCall(core::collectiveCheck(comm, !ok, "mesh '" + mesh->filename + "' (-dm_plex_filename): cannot read its "
+  PetscCall(core::collectiveCheck(comm, !ok, "mesh '" + mesh->filename + "' (" + mesh->fileOption + "): cannot read its "
                                              "cells and vertices; convert it again"));
   const std::vector<PetscInt> cells(cellRows.begin(), cellRows.end());
   cellRows = std::vector<long long>();
@@ -317,7 +317,7 @@ PetscErrorCode readHdf5Mesh(MPI_Comm comm, Mesh *mesh, DM *dm, std::vector<Petsc
     }
   }
   if (file >= 0) H5Fclose(file);
-  PetscCall(core::collectiveCheck(comm, !ok, "mesh '" + mesh->filename + "' (-dm_plex_filename): its labels do not "
+  PetscCall(core::collectiveCheck(comm, !ok, "mesh '" + mesh->filename + "' (" + mesh->fileOption + "): its labels do not "
                                              "match its cells; convert it again"));
 
   PetscInt pStart, pEnd, cStart, cEnd, vStart, vEnd;

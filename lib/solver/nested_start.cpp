@@ -29,8 +29,6 @@
 
 #include <petscsys.h>
 
-#include <fstream>
-
 namespace aries::solver {
 
 namespace {
@@ -103,14 +101,9 @@ PetscErrorCode Simulation::setupCoarseLevels() {
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
             "option -coarse_mesh: nested iteration needs tetrahedral meshes, and '%s' is a surface mesh",
             fine.filename.c_str());
-  if (!std::ifstream(file))
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
-            "option -coarse_mesh: mesh file '%s' does not exist or is not readable; generate catalog meshes with "
-            "meshes/generate.sh NAME SIZE",
-            file.c_str());
   coarse_ = std::make_unique<CoarseLevel>();
   CoarseLevel &c = *coarse_;
-  PetscCall(fem::loadMesh(comm, &c.mesh, file));
+  PetscCall(fem::loadMesh(comm, &c.mesh, file, "-coarse_mesh"));
   if (c.mesh.numCellsGlobal >= fine.numCellsGlobal)
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
             "option -coarse_mesh: '%s' has %d cells, not fewer than the %d of '%s' (coarse meshes come coarsest last)",
