@@ -269,7 +269,7 @@ std::string validateFile(const std::string &file, const std::string &option, Gms
 
 }  // namespace
 
-PetscErrorCode validateGmshFile(MPI_Comm comm, const std::string &file, const std::string &option, GmshFacts *facts) {
+PetscErrorCode validateGmshFile(MPI_Comm comm, const std::string &file, GmshFacts *facts, const std::string &option) {
   PetscMPIInt rank;
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));

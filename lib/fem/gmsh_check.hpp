@@ -19,7 +19,8 @@ struct GmshFacts {
 };
 
 // Collective: rank 0 reads the file; every rank raises the same PETSC_ERR_USER_INPUT on a problem and receives the
-// same facts.
-PetscErrorCode validateGmshFile(MPI_Comm comm, const std::string &file, const std::string &option, GmshFacts *facts);
+// same facts. `option`: the option that named the file, for the error messages.
+PetscErrorCode validateGmshFile(MPI_Comm comm, const std::string &file, GmshFacts *facts,
+                                const std::string &option = "-dm_plex_filename");
 
 }  // namespace aries::fem

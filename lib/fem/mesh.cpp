@@ -203,7 +203,7 @@ PetscErrorCode readGmshMesh(MPI_Comm comm, Mesh *mesh, DM *serial, std::vector<P
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   GmshFacts facts;
-  PetscCall(validateGmshFile(comm, mesh->filename, mesh->fileOption, &facts));
+  PetscCall(validateGmshFile(comm, mesh->filename, &facts, mesh->fileOption));
   PetscCall(parsePhysicalNames(comm, rank == 0 ? physicalNamesBlob(mesh->filename) : std::string(),
                                &mesh->physicalNames));
   // Without this PETSc 3.18 drops gmsh point groups (pinned vertex sets) instead of labelling them.
