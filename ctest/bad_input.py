@@ -80,9 +80,13 @@ $EndElements
 
 
 def write(name, text):
+    """Writes the file atomically: cases run in parallel in one directory and share names (good.msh), so a case
+    must never read another's half-written copy."""
     path = os.path.join(ARGS.work, name)
-    with open(path, "w") as fh:
+    tmp = "%s.%d.tmp" % (path, os.getpid())
+    with open(tmp, "w") as fh:
         fh.write(text)
+    os.replace(tmp, path)
     return path
 
 
