@@ -271,12 +271,9 @@ PetscErrorCode VertexInterpolation::setup(const Mesh &source, const Mesh &target
       comm, uncovered >= 0,
       uncoveredMessage(what, "vertex " + std::to_string(uncovered >= 0 ? target.naturalVertex[uncovered] : -1), target,
                        source, search.margin)));
-  targetVertices_ = static_cast<PetscInt>(points.size());
-  targetVertex_.resize(points.size());
   std::vector<double> chosen;  // per point: the cell on its winner and the point
   double outside = 0.0;
   for (size_t k = 0; k < points.size(); ++k) {
-    targetVertex_[k] = static_cast<PetscInt>(k);
     chosen.insert(chosen.end(), {search.cell[k], points[k][0], points[k][1], points[k][2]});
     outside = std::max(outside, search.distance[k]);
   }
@@ -319,14 +316,11 @@ PetscErrorCode valuesOfCellsAt(const Mesh &source, const std::vector<PetscInt> &
 PetscErrorCode VertexInterpolation::interpolate(const std::vector<double> &sourceValues,
                                                 std::vector<double> *targetValues) const {
   PetscFunctionBeginUser;
-  std::vector<double> replies(3 * corner_.size(), 0.0), values;
+  std::vector<double> replies(3 * corner_.size(), 0.0);
   for (size_t k = 0; k < corner_.size(); ++k)
     for (int i = 0; i < 4; ++i)
       for (int d = 0; d < 3; ++d) replies[3 * k + d] += weight_[k][i] * sourceValues[3 * corner_[k][i] + d];
-  PetscCall(route_.backward(replies, 3, &values));
-  targetValues->assign(3 * static_cast<size_t>(targetVertices_), 0.0);
-  for (size_t k = 0; k < targetVertex_.size(); ++k)
-    for (int d = 0; d < 3; ++d) (*targetValues)[3 * targetVertex_[k] + d] = values[3 * k + d];
+  PetscCall(route_.backward(replies, 3, targetValues));  // (one row per local target vertex, in their order)
   PetscFunctionReturn(0);
 }
 

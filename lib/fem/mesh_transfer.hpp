@@ -38,11 +38,9 @@ class VertexInterpolation {
   double largestOutsideDistance() const { return outside_; }
 
  private:
-  core::RowRoute route_;                          // target vertex -> the rank whose cell it was located in
-  std::vector<PetscInt> targetVertex_;            // the target's local vertex index of each routed row
+  core::RowRoute route_;                          // local target vertex k -> the rank whose cell holds it
   std::vector<std::array<PetscInt, 4>> corner_;   // per received row: the source cell's local vertices
   std::vector<std::array<double, 4>> weight_;     // and their barycentric weights
-  PetscInt targetVertices_ = 0;
   double outside_ = 0.0;
 };
 
