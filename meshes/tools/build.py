@@ -74,6 +74,19 @@ CATALOG = {
         "s1m": {"n": 56, "tets": 6 * 56 ** 3},  # scale-out: 1,053,696 tets (solver crossover, bench/scale_out.py)
         "s2m": {"n": 70, "tets": 6 * 70 ** 3},  # scale-out: 2,058,000 tets (parallel input and output)
     },
+    "hexcube": {  # trilinear hexahedra (Q1): the unit cube as an n^3 grid; "warped" moves its interior nodes
+        "test": {"n": 6, "hexes": 6 ** 3},
+        "warped": {"n": 4, "jitter": 0.2, "hexes": 4 ** 3},
+        "mid": {"n": 12, "hexes": 12 ** 3},
+        "default": {"n": 18, "hexes": 18 ** 3},
+        "paper": {"alias": "default"},
+        "fine": {"n": 24, "hexes": 24 ** 3},
+        # verification: the same grids with their interior nodes moved by up to 0.2 of a cell (general hexahedra)
+        "wtest": {"n": 6, "jitter": 0.2, "hexes": 6 ** 3},
+        "wmid": {"n": 12, "jitter": 0.2, "hexes": 12 ** 3},
+        "wdefault": {"n": 18, "jitter": 0.2, "hexes": 18 ** 3},
+        "wfine": {"n": 24, "jitter": 0.2, "hexes": 24 ** 3},
+    },
     "armadillo": {
         "coarse": {"h": 0.14, "tets": 746},  # nested iteration: a coarse level of the test mesh
         "test": {"h": 0.07, "tets": 3816},
@@ -87,6 +100,8 @@ CATALOG = {
         "default": {"h": 0.0289, "tets": 35010},
         "paper": {"h": 0.0107, "tets": 639254},
         "fig15": {"h": 0.0143, "tets": 271096},  # caricature (Fig. 15, Table 1: 292,476 tets)
+        "hextest": {"voxel": 0.03, "hexes": 7401},  # voxel hexahedra, a test size (at 0.04 the ears are 1 voxel thick)
+        "hex": {"voxel": 0.01, "hexes": 199368},  # voxel hexahedra: the paper's Fig. 13 mesh size (200,739 hexahedra)
     },
     "octopus": {
         "test": {"hmax": 0.4, "ncurv": 5, "tets": 4030},
@@ -139,6 +154,7 @@ CATALOG = {
     "cook": cook_sizes("triangles", 2),
     # verification: Cook's membrane as a thin 3D slab, its half z in [0, 1/2] (n x n x 1 cells, 6 tets each)
     "cook_slab": cook_sizes("tets", 6),
+    "cook_hex": cook_sizes("hexes", 1),  # the same slab in trilinear hexahedra (n x n x 1)
     "disk": {
         "test": {"rings": 10, "triangles": 6 * 10 ** 2},
         "default": {"rings": 15, "triangles": 6 * 15 ** 2},
@@ -170,15 +186,22 @@ PAPER = {  # the paper's meshes (Table 1: tets, Table 2: cloth triangles), for t
     "shell": "(verification: Lame's sphere)",
     "cook": "(verification: Cook's membrane)",
     "cook_slab": "(verification: Cook's membrane, 3D slab)",
+    "cook_hex": "(verification: Cook's membrane, 3D slab, hexahedra)",
     "beam": "(verification: cantilever)",
     "lionhead": "Fig. 14 (count not given)",
     "nefertiti": "Fig. 14 (count not given)",
 }
 
 
-def kind(name):
-    """'tet' or 'tri' (the catalog entry's count key)."""
-    return "tri" if any("triangles" in p for p in CATALOG[name].values()) else "tet"
+def kind(name, size=None):
+    """'tet', 'tri' or 'hex' (the catalog entry's count key; the bunny has tet and hex sizes)."""
+    entries = [CATALOG[name][resolve(name, size)]] if size else CATALOG[name].values()
+    if any("hexes" in p for p in entries) and (size or all("hexes" in p for p in entries if "alias" not in p)):
+        return "hex"
+    return "tri" if any("triangles" in p for p in entries) else "tet"
+
+
+CELL_KEY = {"tet": "tets", "tri": "triangles", "hex": "hexes"}
 
 
 def log(*a):
@@ -356,6 +379,66 @@ def build_cube(p):
     return m, {}, {"source": "structured Freudenthal subdivision (meshes/tools/build.py)", "n": n}
 
 
+def build_hexcube(p):
+    """Unit cube as an n^3 grid of trilinear hexahedra, face sets left/right/front/back/bottom/top (quadrangles);
+    with 'jitter', every interior node moves by up to jitter * (1/n) in each coordinate (seeded: deterministic), so
+    the cells are general trilinear hexahedra (non-planar faces), not parallelepipeds (patch tests)."""
+    n = p["n"]
+    g = np.linspace(0.0, 1.0, n + 1)
+    zz, yy, xx = np.meshgrid(g, g, g, indexing="ij")  # node id = i + (n+1) (j + (n+1) k)
+    X = np.c_[xx.ravel(), yy.ravel(), zz.ravel()]
+    if p.get("jitter"):
+        interior = ((X > 1e-12) & (X < 1 - 1e-12)).all(1)
+        rng = np.random.default_rng(20261126)
+        X[interior] += p["jitter"] / n * rng.uniform(-1.0, 1.0, (int(interior.sum()), 3))
+    m = mk.HexMesh(X, mk.grid_hexes(np.ones((n, n, n), dtype=bool)))
+    F, _ = m.boundary_faces()
+    P = m.X[F]
+    for tag, name in enumerate(["left", "right", "front", "back", "bottom", "top"], start=1):
+        axis, val = (tag - 1) // 2, float((tag - 1) % 2)
+        m.add_face_set(tag, name, F[(np.abs(P[:, :, axis] - val) < 1e-12).all(1)])
+    return m, {}, {"source": "structured grid (meshes/tools/build.py)", "n": n, "jitter": p.get("jitter", 0.0)}
+
+
+def voxel_volume(V, F, h):
+    """The voxels of edge h whose centres lie inside the closed surface (V, F), on a grid over its bounding box, as a
+    hexahedral mesh (staircase boundary), its boundary quadrangles as face set 1 "surface"."""
+    lo, hi = V.min(0), V.max(0)
+    n = np.ceil((hi - lo) / h).astype(int) + 2
+    origin = 0.5 * (lo + hi) - 0.5 * h * n
+    centres = [origin[a] + h * (np.arange(n[a]) + 0.5) for a in range(3)]
+    mask = mk.inside_closed_surface_columns(V, F, *centres)
+    # keep the largest face-connected component (a voxel touching the rest by an edge only would hang loose)
+    lab = -np.ones(mask.shape, dtype=np.int64)
+    comp = 0
+    sizes = []
+    for seed in zip(*np.nonzero(mask)):
+        if lab[seed] >= 0:
+            continue
+        stack, lab[seed], count = [seed], comp, 0
+        while stack:
+            c = stack.pop()
+            count += 1
+            for a in range(3):
+                for dlt in (-1, 1):
+                    q = list(c)
+                    q[a] += dlt
+                    q = tuple(q)
+                    if 0 <= q[a] < n[a] and mask[q] and lab[q] < 0:
+                        lab[q] = comp
+                        stack.append(q)
+        sizes.append(count)
+        comp += 1
+    mask &= lab == int(np.argmax(sizes))
+    gx, gy, gz = [origin[a] + h * np.arange(n[a] + 1) for a in range(3)]
+    zz, yy, xx = np.meshgrid(gz, gy, gx, indexing="ij")
+    m = mk.HexMesh(np.c_[xx.ravel(), yy.ravel(), zz.ravel()], mk.grid_hexes(mask))
+    m.drop_unused_nodes()
+    Fb, _ = m.boundary_faces()
+    m.add_face_set(1, "surface", Fb)
+    return m
+
+
 def remeshed_surface_volume(V, F, h):
     """Remesh a closed triangle surface with gmsh at uniform size h and fill it with tets
     (meshes/geo/remesh.geo)."""
@@ -428,19 +511,24 @@ def build_armadillo(p):
 
 def build_bunny(p):
     V, F, tar = checked_surface("data/meshes/bunny00.off", 1.0)
-    m = mk.TetMesh(*remeshed_surface_volume(V, F, p["h"]))
-    m.drop_unused_nodes()
-    m.orient()
-    Fb, _ = m.boundary_faces()
-    m.add_face_set(1, "surface", Fb)
+    if "voxel" in p:  # the paper's Fig. 13 runs on hexahedra: voxels of the closed surface
+        m = voxel_volume(V, F, p["voxel"])
+        cells = m.T
+    else:
+        m = mk.TetMesh(*remeshed_surface_volume(V, F, p["h"]))
+        m.drop_unused_nodes()
+        m.orient()
+        Fb, _ = m.boundary_faces()
+        m.add_face_set(1, "surface", Fb)
+        cells = m.T
     comments = ["aries shape-target keyframes (-target_file) for the bunny's guided performance (paper Fig. 13),",
-                "generated by meshes/tools/targets.py from the rest geometry; one target per tetrahedron in .msh order."]
-    frames = tg.bunny_guided_keyframes(m.X, m.T)
+                "generated by meshes/tools/targets.py from the rest geometry; one target per cell in .msh order."]
+    frames = tg.bunny_guided_keyframes(m.X, cells)
     extra = {".targets": lambda path: tg.write_keyframes(path, frames, comments)}
     return m, extra, {
         "source": tar + ":data/meshes/bunny00.off",
         "transform": "rotated y-up -> z-up: (x,y,z) -> (x,-z,y)",
-        "h": p["h"],
+        "h": p.get("h"), "voxel": p.get("voxel"),
     }
 
 
@@ -609,6 +697,19 @@ def build_cook_slab(p):
     return m, {}, {"source": "structured bilinear map, extruded (meshes/tools/build.py)", "n": n}
 
 
+def build_cook_hex(p):
+    """build_cook_slab's panel and face groups in trilinear hexahedra: n x n x 1 cells of the extruded bilinear map."""
+    n = p["n"]
+    P = cook_panel_points(n)
+    layers = np.repeat([0.0, 0.5], len(P))
+    m = mk.HexMesh(np.c_[np.vstack([P, P]), layers], mk.grid_hexes(np.ones((n, n, 1), dtype=bool)))
+    F, _ = m.boundary_faces()
+    Q = m.X[F]
+    for tag, name, axis, value in ((1, "left", 0, 0.0), (2, "right", 0, 48.0), (3, "mid", 2, 0.0), (4, "top", 2, 0.5)):
+        m.add_face_set(tag, name, F[(np.abs(Q[:, :, axis] - value) < 1e-9).all(1)])
+    return m, {}, {"source": "structured bilinear map, extruded (meshes/tools/build.py)", "n": n}
+
+
 def build_cook(p):
     """Cook's membrane (Cook 1974; the plane-stress benchmark of e.g. Simo & Rifai 1990): the quadrilateral panel with
     corners (0,0), (48,44), (48,60), (0,44) in the plane z = 0, an n x n grid of the bilinear map of the unit square,
@@ -734,10 +835,10 @@ def build_nefertiti(p):
     return build_cgal_disk("data/meshes/nefertiti.off", p)
 
 
-BUILDERS = {"cylinder": build_cylinder, "cube": build_cube, "armadillo": build_armadillo,
+BUILDERS = {"cylinder": build_cylinder, "cube": build_cube, "hexcube": build_hexcube, "armadillo": build_armadillo,
             "bunny": build_bunny, "octopus": build_octopus, "triceratops": build_triceratops,
             "hand": build_hand, "camel": build_camel, "cloth": build_cloth, "cook": build_cook, "beam": build_beam,
-            "cook_slab": build_cook_slab,
+            "cook_slab": build_cook_slab, "cook_hex": build_cook_hex,
             "disk": build_disk,
             "lionhead": build_lionhead, "nefertiti": build_nefertiti, "shell": build_shell}
 
@@ -749,7 +850,7 @@ def build(name, size, outdir):
     t0 = time.time()
     m, extra, prov = BUILDERS[name](params)
     s = m.stats()
-    cells = "tets" if kind(name) == "tet" else "triangles"
+    cells = CELL_KEY[kind(name, size)]
     if s["flipped_on_input"]:
         log("note: %d %s were %s as generated and got two nodes swapped"
             % (s["flipped_on_input"], cells,
@@ -775,14 +876,14 @@ def listing():
                                                   "paper (Table 1 tets, Table 2 triangles)"))
     for name, sizes in CATALOG.items():
         paper_size = resolve(name, "paper")
-        cells = "tets" if kind(name) == "tet" else "triangles"
         for size, p in sizes.items():
             if "alias" in p:
-                print("%-11s %-8s %-5s %-8s %-22s" % (name, size, kind(name), "", "= " + p["alias"]))
+                print("%-11s %-8s %-5s %-8s %-22s" % (name, size, kind(name, size), "", "= " + p["alias"]))
                 continue
+            cells = CELL_KEY[kind(name, size)]
             par = " ".join("%s=%g" % (k, v) for k, v in p.items() if k != cells) or "source mesh"
             paper = PAPER[name] if size == paper_size else ("292,476 (Fig. 15)" if size == "fig15" else "")
-            print("%-11s %-8s %-5s %-8s %-22s %s" % (name, size, kind(name), p.get(cells, "?"), par, paper))
+            print("%-11s %-8s %-5s %-8s %-22s %s" % (name, size, kind(name, size), p.get(cells, "?"), par, paper))
 
 
 def main(argv):

@@ -25,6 +25,7 @@ import numpy as np
 
 # gmsh MSH 2.2 element type numbers
 MSH_POINT, MSH_LINE, MSH_TRI, MSH_TET = 15, 1, 2, 4
+MSH_QUAD, MSH_HEX = 3, 5
 
 
 # --------------------------------------------------------------------------------------------------
@@ -301,8 +302,10 @@ class TetMesh:
         return F[once], owner[once]
 
     # -- physical groups --------------------------------------------------------------------------
+    FACE_NODES = 3  # boundary triangles (HexMesh: quadrangles)
+
     def add_face_set(self, tag, name, tris):
-        self.face_sets.append((int(tag), np.asarray(tris, dtype=np.int64).reshape(-1, 3)))
+        self.face_sets.append((int(tag), np.asarray(tris, dtype=np.int64).reshape(-1, self.FACE_NODES)))
         self.names[(2, int(tag))] = name
 
     def add_vertex_set(self, tag, name, nodes):
@@ -697,3 +700,107 @@ def write_atomic(path, writer):
     finally:
         if os.path.exists(tmp):
             os.remove(tmp)
+
+
+# --------------------------------------------------------------------------------------------------
+# Hexahedral meshes
+
+
+# The 6 faces of a hexahedron in gmsh node order (bottom 0-3 counterclockwise seen from above, top 4-7), each
+# counterclockwise seen from outside.
+HEX_FACES = np.array([[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [2, 3, 7, 6], [1, 2, 6, 5], [0, 4, 7, 3]])
+
+
+def hex_jacobians(X, H):
+    """det J of each hexahedron's trilinear map at its 8 corners ((m, 8)); all > 0 for a valid, positively numbered
+    cell."""
+    P = X[H]  # (m, 8, 3)
+    nbr = [(1, 3, 4), (2, 0, 5), (3, 1, 6), (0, 2, 7), (7, 5, 0), (4, 6, 1), (5, 7, 2), (6, 4, 3)]
+    return np.stack([np.einsum("ij,ij->i", P[:, a] - P[:, v], np.cross(P[:, b] - P[:, v], P[:, c] - P[:, v]))
+                     for v, (a, b, c) in enumerate(nbr)], axis=1)
+
+
+class HexMesh(TetMesh):
+    """Trilinear hexahedral mesh + physical groups, written as gmsh MSH 2.2 ASCII (hexahedra: element type 5, gmsh
+    node order; boundary groups: quadrangles, type 3). TetMesh's members, with self.T (m,8) the hexahedra and the face
+    sets quadrangles (k,4); drop_unused_nodes before adding groups (it renumbers the nodes)."""
+
+    FACE_NODES = 4
+
+    def boundary_faces(self):
+        """Boundary quadrangles (k,4), outward, and the hexahedron of each."""
+        F = self.T[:, HEX_FACES].reshape(-1, 4)
+        key = np.sort(F, axis=1)
+        _, inv, cnt = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+        once = cnt[inv.ravel()] == 1
+        return F[once], np.repeat(np.arange(len(self.T)), 6)[once]
+
+    def write_msh22(self, path):
+        if (hex_jacobians(self.X, self.T) <= 0).any():
+            raise ValueError("write_msh22: a hexahedron with det J <= 0 at a corner")
+        blocks = [(MSH_POINT, tag, nodes.reshape(-1, 1)) for tag, nodes in self.vertex_sets]
+        blocks += [(MSH_QUAD, tag, quads) for tag, quads in self.face_sets]
+        blocks.append((MSH_HEX, self.cell_tag, self.T))
+        write_msh22(path, self.names, self.X, blocks)
+
+    def stats(self):
+        J = hex_jacobians(self.X, self.T)
+        P = self.X[self.T]
+        s = {
+            "hexes": len(self.T),
+            "vertices": len(self.X),
+            "flipped_on_input": 0,
+            "min_corner_jacobian": float(J.min()),
+            "max_corner_jacobian": float(J.max()),
+            "bbox_min": [float(v) for v in self.X.min(0)],
+            "bbox_max": [float(v) for v in self.X.max(0)],
+            "mean_cell_size": float(np.abs(P.max(1) - P.min(1)).mean()),
+        }
+        for tag, quads in self.face_sets:
+            s["surface %d %s quadrangles" % (tag, self.names[(2, tag)])] = len(quads)
+        for tag, nodes in self.vertex_sets:
+            s["point %d %s vertices" % (tag, self.names[(0, tag)])] = len(nodes)
+        return s
+
+
+def grid_hexes(mask):
+    """Hexahedra of the cells of a boolean voxel grid mask (nx, ny, nz) on the node grid (nx+1, ny+1, nz+1), node id
+    i + (nx+1) (j + (ny+1) k), in gmsh node order; cell-major (x fastest)."""
+    nx, ny, nz = mask.shape
+    k, j, i = np.nonzero(mask.transpose(2, 1, 0))
+    node = lambda a, b, c: a + (nx + 1) * (b + (ny + 1) * c)
+    return np.stack([node(i, j, k), node(i + 1, j, k), node(i + 1, j + 1, k), node(i, j + 1, k),
+                     node(i, j, k + 1), node(i + 1, j, k + 1), node(i + 1, j + 1, k + 1), node(i, j + 1, k + 1)],
+                    axis=1)
+
+
+def inside_closed_surface_columns(V, F, xs, ys, zs):
+    """Boolean (len(xs), len(ys), len(zs)): whether each grid point lies inside the closed triangle surface (V, F),
+    by the parity of the surface's crossings of the vertical line through (x, y) below z."""
+    inside = np.zeros((len(xs), len(ys), len(zs)), dtype=bool)
+    crossings = [[[] for _ in ys] for _ in xs]
+    a, b, c = V[F[:, 0]], V[F[:, 1]], V[F[:, 2]]
+    for t in range(len(F)):
+        lo = np.minimum(np.minimum(a[t], b[t]), c[t])
+        hi = np.maximum(np.maximum(a[t], b[t]), c[t])
+        ii = np.nonzero((xs >= lo[0]) & (xs < hi[0]))[0]
+        jj = np.nonzero((ys >= lo[1]) & (ys < hi[1]))[0]
+        if len(ii) == 0 or len(jj) == 0:
+            continue
+        px, py = np.meshgrid(xs[ii], ys[jj], indexing="ij")
+        d = (b[t, 0] - a[t, 0]) * (c[t, 1] - a[t, 1]) - (c[t, 0] - a[t, 0]) * (b[t, 1] - a[t, 1])
+        if d == 0:
+            continue
+        l1 = ((px - a[t, 0]) * (c[t, 1] - a[t, 1]) - (c[t, 0] - a[t, 0]) * (py - a[t, 1])) / d
+        l2 = ((b[t, 0] - a[t, 0]) * (py - a[t, 1]) - (px - a[t, 0]) * (b[t, 1] - a[t, 1])) / d
+        l0 = 1 - l1 - l2
+        hit = (l0 >= 0) & (l1 >= 0) & (l2 >= 0)
+        z = l0 * a[t, 2] + l1 * b[t, 2] + l2 * c[t, 2]
+        for p, q in zip(*np.nonzero(hit)):
+            crossings[ii[p]][jj[q]].append(z[p, q])
+    for p in range(len(xs)):
+        for q in range(len(ys)):
+            zc = np.sort(np.array(crossings[p][q]))
+            if len(zc):
+                inside[p, q] = (np.searchsorted(zc, zs) % 2) == 1
+    return inside
