@@ -43,6 +43,33 @@ $EndElements
 """
 
 
+# Two unit hexahedra side by side along x (gmsh node order: bottom face counterclockwise, then the top face).
+HEX_MSH = """$MeshFormat
+2.2 0 8
+$EndMeshFormat
+$Nodes
+12
+1 0 0 0
+2 1 0 0
+3 1 1 0
+4 0 1 0
+5 0 0 1
+6 1 0 1
+7 2 0 0
+8 2 1 0
+9 1 1 1
+10 0 1 1
+11 2 0 1
+12 2 1 1
+$EndNodes
+$Elements
+2
+1 5 2 1 1 1 2 3 4 5 6 9 10
+2 5 2 1 1 2 7 8 3 6 11 12 9
+$EndElements
+"""
+
+
 # One tetrahedron far from TET_MSH's (another body).
 FAR_TET_MSH = """$MeshFormat
 2.2 0 8
@@ -137,9 +164,17 @@ def case_defs():
                            r"trunc\.msh' line \d+: file ends inside \$Elements \(truncated\?\)")
     d["wrong_node_count"] = (lambda: ["-dm_plex_filename", write("count.msh", TET_MSH.replace("$Nodes\n5\n", "$Nodes\n7\n"))],
                              r"count\.msh' line \d+: \$Nodes declares 7 entries but ends after 5 \(wrong count\?\)")
-    d["unsupported_element"] = (lambda: ["-dm_plex_filename", write("hex.msh", TET_MSH.replace(
-        "3 4 2 1 1 2 3 4 5", "3 5 2 1 1 1 2 3 4 5 1 2 3"))],
-                                r"hex\.msh' line \d+: unsupported element type 5 \(8-node hexahedron\)")
+    d["unsupported_element"] = (lambda: ["-dm_plex_filename", write("prism.msh", TET_MSH.replace(
+        "3 4 2 1 1 2 3 4 5", "3 6 2 1 1 1 2 3 4 5 1"))],
+                                r"prism\.msh' line \d+: unsupported element type 6 \(6-node prism\)")
+    d["mixed_cells"] = (lambda: ["-dm_plex_filename", write("mixed.msh", HEX_MSH.replace(
+        "$EndNodes", "13 0.5 0.5 -1\n$EndNodes").replace("$Elements\n2\n", "$Elements\n3\n").replace(
+        "$EndElements", "3 4 2 1 1 1 2 4 13\n$EndElements").replace("$Nodes\n12\n", "$Nodes\n13\n"))],
+                        r"mixed\.msh' \(-dm_plex_filename\) has cells of type tetrahedron, hexahedron; aries needs one "
+                        r"cell type")
+    d["folded_hexahedron"] = (lambda: ["-dm_plex_filename", write("folded.msh", HEX_MSH.replace(
+        "2 5 2 1 1 2 7 8 3 6 11 12 9", "2 5 2 1 1 2 7 3 8 6 11 12 9"))],
+                              r"cell 1 .*degenerate: rest volume 0 \(det J <= 0 at some Gauss point: a folded hexahedron")
     d["not_gmsh"] = (lambda: ["-dm_plex_filename", write("junk.msh", "hello world\n")],
                      r"junk\.msh' line 1: not a gmsh file: it does not start with \$MeshFormat")
     d["degenerate_cell"] = (lambda: ["-dm_plex_filename", write("flat.msh", TET_MSH.replace("5 1 1 1", "5 1 1 0").replace(

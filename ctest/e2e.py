@@ -403,16 +403,19 @@ PATCH_ENERGIES = {
     "planar": [["iarap"], ["iarap_lin"], ["arap_svd"], ["fiber", "-gamma", "50", "-fiber", "1,1"], ["kim_aa"],
                ["shape_target"], ["ortho", "-ortho_mu", "100,300", "-fiber", "1,1", "-fiber2", "-1,1"],
                ["aniso", "-aniso_dirs", "1,0,0,1,1,1", "-aniso_mu", "100,150,50"]],
+    "hex": None,  # the tet list (3x3 F): filled in below
     "cloth": [["bw46", "-mu1", "20"], ["bw", "-mu1", "20", "-mu2", "10", "-fiber", "1,1", "-fiber2", "-1,1"],
               ["bw461", "-mu1", "20", "-mu2", "10"], ["bw46s", "-mu1", "20", "-mu2", "10"]],
 }
+
+PATCH_ENERGIES["hex"] = PATCH_ENERGIES["tet"]
 
 
 def case_patch_tests():
     """Patch tests: a homogeneous deformation x = A X imposed on the whole boundary of an unstructured mesh
     (-bc_clamp_<set>_affine on every boundary group) is reproduced at every interior vertex to round-off, for every
-    energy on every element shape it supports (PATCH_ENERGIES): tets on the cube, planar triangles and cloth on the
-    flat square. Two deformations each, reached in 10 load steps: stretch + shear (tilting the cloth out of its plane),
+    energy on every element shape it supports (PATCH_ENERGIES): tets on the cube, trilinear hexahedra on the cube with
+    its interior nodes moved (meshes/generate.sh hexcube warped), planar triangles and cloth on the flat square. Two deformations each, reached in 10 load steps: stretch + shear (tilting the cloth out of its plane),
     and a large rotation (50 deg about (1,1,1); for cloth about its normal, by -rotate, since the linear ramp
     X + s (R - I) X of a rotation compresses on the way) times a stretch; stretches >= 1 in the plane, since a
     membrane under compression wrinkles and its homogeneous state is then not the minimizer. The
@@ -424,6 +427,10 @@ def case_patch_tests():
     rotated = rotation([1, 1, 1], 50) @ np.diag([1.3, 1.1, 1.2])
     shapes = {
         "tet": (["-dm_plex_filename", mesh("cube")], ["left", "right", "front", "back", "bottom", "top"], 3),
+        # trilinear hexahedra with their interior nodes moved (non-planar faces: a map Q1 represents only for linear
+        # fields, the patch test proper)
+        "hex": (["-dm_plex_filename", sized_mesh("hexcube", "warped")], ["left", "right", "front", "back", "bottom",
+                                                                          "top"], 3),
         "planar": (["-dm_plex_filename", mesh("cloth")], ["left", "right", "bottom", "top"], 2),
         "cloth": (cloth_args(mesh("cloth")), ["left", "right", "bottom", "top"], 3),
     }
@@ -1847,7 +1854,136 @@ def case_nested_ranks_agree():
         fail("1 and 2 ranks differ by %.3e L" % diff)
 
 
+def hex_corner_jacobians(points, cells):
+    """det J at the 8 corners of each hexahedron given in VTK order (as XDMF and meshio store them)."""
+    P = points[cells]
+    nbr = [(1, 3, 4), (2, 0, 5), (3, 1, 6), (0, 2, 7), (7, 5, 0), (4, 6, 1), (5, 7, 2), (6, 4, 3)]
+    return np.stack([np.einsum("ij,ij->i", P[:, a] - P[:, v], np.cross(P[:, b] - P[:, v], P[:, c] - P[:, v]))
+                     for v, (a, b, c) in enumerate(nbr)], axis=1)
+
+
+def case_hex_elements():
+    """Trilinear hexahedra (Q1, 2x2x2 Gauss points) end to end, on the 6^3 cube (meshes/generate.sh hexcube test):
+    (1) the hanging bar (iarap, nu = 0, rho g = 5000, top clamped): the exact u_z = -rho g (1 - z^2) / (2 E) is
+    quadratic along the bar and the grid is uniform, so Q1 with the lumped (row-sum) gravity is exact at the nodes
+    (the 1D superconvergence of linear elements), up to the solver's tolerance: <= 1e-9 L; (2) a dead traction on the
+    top quadrangles (-load_traction_top 2000, bottom clamped, iarap nu = 0): F = diag(1, 1, 1.2) exactly, so every
+    vertex is at z (1.2): <= 1e-9 L (checks the quadrangle's vertex shares); (3) the XDMF output names a Hexahedron
+    topology that meshio reads with every cell positively oriented in VTK order, and per-cell fields per hexahedron;
+    (4) -psd_scope element (the whole 24x24 element Hessian filtered) ends where the per-point filter does."""
+    import meshio
+    msh = mesh("hexcube")
+    L = math.sqrt(3.0)
+    tag = "hex_hanging_np%d" % ARGS.ranks
+    run(["-dm_plex_filename", msh, "-energy", "iarap", "-E", "1e4", "-nu", "0", "-bc_clamp", "top", "-density", "1000",
+         "-gravity", "0,0,-5", "-steps", "1", "-newton_tol", "1e-10", "-output", out_base(tag), "-output_fields",
+         "alpha,von_mises", "-stats", out_base(tag) + ".csv"], tag=tag)
+    rest, _, x, _ = read_state(out_base(tag))
+    exact = rest.copy()
+    exact[:, 2] += -5000.0 * (1.0 - rest[:, 2] ** 2) / 2e4
+    err = np.abs(x - exact).max() / L
+    print("hanging bar on hexahedra: max nodal error %.2e L (limit 1e-9)" % err)
+    if not err <= 1e-9:
+        fail("hanging bar on hexahedra: nodal error %.2e L" % err)
+    with meshio.xdmf.TimeSeriesReader(out_base(tag) + ".xmf") as r:
+        points, cells = r.read_points_cells()
+        _, _, cell_data = r.read_data(r.num_steps - 1)
+    if [c.type for c in cells] != ["hexahedron"] or len(cells[0].data) != 216:
+        fail("XDMF cells %s, expected 216 hexahedra" % [(c.type, len(c.data)) for c in cells])
+    if any(len(v[0]) != 216 for v in cell_data.values()) or "von_mises" not in cell_data:
+        fail("XDMF cell fields %s, expected one value per hexahedron" % {k: len(v[0]) for k, v in cell_data.items()})
+    jac = hex_corner_jacobians(np.asarray(points), np.asarray(cells[0].data))
+    print("XDMF: %d hexahedra, corner det J in [%.3g, %.3g] (VTK order)" % (len(jac), jac.min(), jac.max()))
+    if not (jac > 0).all():
+        fail("hexahedra in the XDMF are not in VTK order: corner det J down to %.3g" % jac.min())
+    with open(out_base(tag) + ".xmf") as fh:
+        if 'TopologyType="Hexahedron"' not in fh.read():
+            fail("the XDMF does not name a Hexahedron topology")
+    # The whole-element filter (-psd_scope element: the 24x24 element Hessian projected) reaches the same solution.
+    tag = "hex_hanging_element_filter_np%d" % ARGS.ranks
+    run(["-dm_plex_filename", msh, "-energy", "fiber", "-E", "1e4", "-nu", "0", "-gamma", "2000", "-fiber", "1,1,1",
+         "-bc_clamp", "top", "-density", "1000", "-gravity", "0,0,-5", "-steps", "1", "-newton_tol", "1e-10",
+         "-psd_scope", "element", "-output", out_base(tag)], tag=tag)
+    run(["-dm_plex_filename", msh, "-energy", "fiber", "-E", "1e4", "-nu", "0", "-gamma", "2000", "-fiber", "1,1,1",
+         "-bc_clamp", "top", "-density", "1000", "-gravity", "0,0,-5", "-steps", "1", "-newton_tol", "1e-10",
+         "-output", out_base(tag + "_point")], tag=tag + "_point")
+    diff = np.abs(read_state(out_base(tag))[2] - read_state(out_base(tag + "_point"))[2]).max() / L
+    print("fiber (1,1,1) hanging: -psd_scope element vs point: %.2e L (limit 1e-9)" % diff)
+    if not diff <= 1e-9:
+        fail("-psd_scope element and point end %.2e L apart" % diff)
+    tag = "hex_traction_np%d" % ARGS.ranks
+    run(["-dm_plex_filename", msh, "-energy", "iarap", "-E", "1e4", "-nu", "0", "-bc_clamp", "bottom",
+         "-load_traction_top", "0,0,2000", "-steps", "2", "-newton_tol", "1e-10", "-output", out_base(tag),
+         "-stats", out_base(tag) + ".csv"], tag=tag)
+    rest, _, x, _ = read_state(out_base(tag))
+    exact = rest.copy()
+    exact[:, 2] *= 1.2
+    err = np.abs(x - exact).max() / L
+    print("dead traction on the top quadrangles: max error %.2e L (limit 1e-9)" % err)
+    if not err <= 1e-9:
+        fail("traction on hexahedra: error %.2e L" % err)
+
+
+def case_hex_ranks_agree():
+    """Hexahedra on 1 and 2 ranks give the same states (<= 1e-8 L at -newton_tol 1e-10): the warped cube (interior
+    nodes moved), fiber energy along (1,1,1), backward Euler under gravity with the top clamped and pulled, 3 steps;
+    and so does the same mesh converted to HDF5 (-mesh_convert: its quadrangle face sets too) read by 2 ranks."""
+    msh = sized_mesh("hexcube", "warped")
+    h5 = os.path.join(ARGS.work, "hexcube_warped.h5")
+    run(["-dm_plex_filename", msh, "-mesh_convert", h5], ranks=1, tag="hex_convert")
+    xs = []
+    for n, mesh_file in ((1, msh), (2, msh), (2, h5)):
+        tag = "hex_ranks_np%d%s" % (n, "_h5" if mesh_file == h5 else "")
+        run(["-dm_plex_filename", mesh_file, "-energy", "fiber", "-E", "1e3", "-nu", "0.3", "-gamma", "200", "-fiber",
+             "1,1,1", "-bc_clamp", "top", "-bc_clamp_top_translate", "0.1,0,0.2", "-density", "100", "-gravity",
+             "0,0,-9.8", "-integrator", "beuler", "-dt", "0.05", "-steps", "3", "-newton_tol", "1e-10", "-output",
+             out_base(tag), "-output_every", "1"], ranks=n, tag=tag)
+        xs.append(read_state(out_base(tag))[2])
+    rest = read_state(out_base("hex_ranks_np1"))[0]
+    L = np.linalg.norm(rest.max(0) - rest.min(0))
+    diff = np.abs(xs[0] - xs[1]).max() / L
+    diff_h5 = np.abs(xs[0] - xs[2]).max() / L
+    moved = np.abs(xs[0] - rest).max() / L
+    print("hexahedra, 1 vs 2 ranks: max difference %.2e L; 1 rank vs 2 ranks reading the converted HDF5 mesh: %.2e L "
+          "(limit 1e-8); the body moved %.3f L" % (diff, diff_h5, moved))
+    if not diff <= 1e-8 or not diff_h5 <= 1e-8 or not moved > 0.01:
+        fail("hexahedra on 1 and 2 ranks differ by %.2e L, %.2e L from the HDF5 mesh (moved %.3f L)"
+             % (diff, diff_h5, moved))
+
+
+def case_hex_degenerate_starts():
+    """The degenerate starts on hexahedra: (1) the voxel bunny (meshes/generate.sh bunny hextest, 7,401 hexahedra)
+    inside out (x = -X: every Gauss point at F = -I) under backward Euler at dt 0.2: every step converges and by step
+    16 the elastic energy has fallen below 1% of step 1's (measured 0.07%; the body then rings about its rest shape);
+    (2) a static scramble of the 6^3 cube with its bottom 10% pinned returns to rest (<= 1e-6 L) in one converged
+    step. At a voxel size of 0.04 (3,120 hexahedra) the bunny's ears are one voxel thick and it stays folded (energy
+    6.9% of step 1's after 60 steps): the coarse voxel mesh has another local minimum."""
+    tag = "hex_inside_out_np%d" % ARGS.ranks
+    run(["-dm_plex_filename", sized_mesh("bunny", "hextest"), "-energy", "iarap", "-E", "1e4", "-nu", "0",
+         "-initial", "invert", "-integrator", "beuler", "-dt", "0.2", "-steps", "16", "-output", out_base(tag),
+         "-output_every", "16", "-stats", out_base(tag) + ".csv"], tag=tag)
+    rows = stats(out_base(tag) + ".csv")
+    bad = [r["reason"] for r in rows if r["reason"] not in CONVERGED]
+    ratio = float(rows[-1]["energy"]) / float(rows[0]["energy"])
+    print("inside-out voxel bunny: step 1 %s Newton updates; energy at step 16 / step 1 = %.2e (limit 1e-2); "
+          "min alpha %s" % (rows[0]["newton_its"], ratio, rows[-1]["min_alpha"]))
+    if bad or not ratio <= 1e-2 or not float(rows[-1]["min_alpha"]) > 0:
+        fail("inside-out hexahedra: energy ratio %.2e, unconverged steps %s" % (ratio, bad))
+    tag = "hex_scramble_np%d" % ARGS.ranks
+    run(static_scramble_args(mesh("hexcube"), 1, 1) + ["-output", out_base(tag), "-stats", out_base(tag) + ".csv"],
+        tag=tag)
+    err, _ = shape_error(out_base(tag), rigid=False)
+    row = stats(out_base(tag) + ".csv")[0]
+    print("static scramble of the hexahedral cube: %s Newton updates, %s; distance to rest %.3e L"
+          % (row["newton_its"], row["reason"], err))
+    if row["reason"] not in CONVERGED or not err <= 1e-6:
+        fail("scrambled hexahedra: %s, %.3e L from rest" % (row["reason"], err))
+
+
 CASES = {
+    "hex_elements": case_hex_elements,
+    "hex_ranks_agree": case_hex_ranks_agree,
+    "hex_degenerate_starts": case_hex_degenerate_starts,
     "multigrid_rule": case_multigrid_rule,
     "parallel_io": case_parallel_io,
     "output_fields": case_output_fields,

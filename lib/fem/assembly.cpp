@@ -5,8 +5,8 @@
 
 namespace aries::fem {
 
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::objective(Vec xLocal, PetscReal *value, PetscReal *magnitude) const {
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::objective(Vec xLocal, PetscReal *value, PetscReal *magnitude) const {
   const PetscScalar *x;
   PetscFunctionBeginUser;
   PetscCall(VecGetArrayRead(xLocal, &x));
@@ -21,8 +21,8 @@ PetscErrorCode DiscretizationT<R, C>::objective(Vec xLocal, PetscReal *value, Pe
   PetscFunctionReturn(0);
 }
 
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::elasticEnergy(Vec xLocal, PetscReal *value) const {
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::elasticEnergy(Vec xLocal, PetscReal *value) const {
   const PetscScalar *x;
   PetscFunctionBeginUser;
   PetscCall(VecGetArrayRead(xLocal, &x));
@@ -33,8 +33,8 @@ PetscErrorCode DiscretizationT<R, C>::elasticEnergy(Vec xLocal, PetscReal *value
   PetscFunctionReturn(0);
 }
 
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::gradient(Vec xLocal, Vec gLocal) const {
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::gradient(Vec xLocal, Vec gLocal) const {
   const PetscScalar *x;
   PetscScalar *g;
   PetscFunctionBeginUser;
@@ -47,13 +47,13 @@ PetscErrorCode DiscretizationT<R, C>::gradient(Vec xLocal, Vec gLocal) const {
   PetscFunctionReturn(0);
 }
 
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::hessian(Vec xLocal, Mat J) {
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::hessian(Vec xLocal, Mat J) {
   const PetscScalar *x;
   PetscInt bs;
   PetscFunctionBeginUser;
   PetscCall(MatGetBlockSize(J, &bs));
-  const HessianAssembly how{hessianFilter_, bs == R};
+  const HessianAssembly how{hessianFilter_, bs == R, wholeElementFilter_};
   if (!stashSized_) {
     // Entries for rows another rank owns go through PETSc's stash, which otherwise grows by reallocation during the
     // first assembly: size it for every off-rank value the terms add.
@@ -71,8 +71,8 @@ PetscErrorCode DiscretizationT<R, C>::hessian(Vec xLocal, Mat J) {
   PetscFunctionReturn(0);
 }
 
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::curvatureGram(Vec xLocal, const std::vector<Vec> &dLocal,
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::curvatureGram(Vec xLocal, const std::vector<Vec> &dLocal,
                                                    std::vector<double> *gram) const {
   const int K = static_cast<int>(dLocal.size());
   const PetscScalar *x, *d[kMaxGramDirections];
@@ -96,5 +96,6 @@ PetscErrorCode DiscretizationT<R, C>::curvatureGram(Vec xLocal, const std::vecto
 template class DiscretizationT<3, 3>;
 template class DiscretizationT<2, 2>;
 template class DiscretizationT<3, 2>;
+template class DiscretizationT<3, 3, 8>;
 
 }  // namespace aries::fem

@@ -10,8 +10,8 @@ namespace aries::fem {
 
 // Anisotropy data: one shared entry when every cell has the global material's uniform data, else one per cell
 // (regions, fiber files, active materials).
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::setupCellData(Mesh &mesh, const FemOptions &o,
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::setupCellData(Mesh &mesh, const FemOptions &o,
                                                     const std::vector<UniformCellData> &regionCells, bool regions) {
   PetscFunctionBeginUser;
   std::vector<double> fibers, fibers2;
@@ -51,5 +51,6 @@ PetscErrorCode DiscretizationT<R, C>::setupCellData(Mesh &mesh, const FemOptions
 template class DiscretizationT<3, 3>;
 template class DiscretizationT<2, 2>;
 template class DiscretizationT<3, 2>;
+template class DiscretizationT<3, 3, 8>;
 
 }  // namespace aries::fem

@@ -10,8 +10,8 @@
 
 namespace aries::fem {
 
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::updateBarrierFallback(Vec xLocal, double threshold, PetscInt *count) {
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::updateBarrierFallback(Vec xLocal, double threshold, PetscInt *count) {
   PetscFunctionBeginUser;
   bool anyBarrier = false;
   for (const auto &m : materials_) anyBarrier = anyBarrier || m.singularity.mode == energies::SingularityMode::Barrier;
@@ -25,8 +25,8 @@ PetscErrorCode DiscretizationT<R, C>::updateBarrierFallback(Vec xLocal, double t
   PetscFunctionReturn(0);
 }
 
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::barrierActiveCells(Vec xLocal, PetscInt *count) const {
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::barrierActiveCells(Vec xLocal, PetscInt *count) const {
   const PetscScalar *x;
   PetscFunctionBeginUser;
   PetscInt local = 0;
@@ -36,16 +36,21 @@ PetscErrorCode DiscretizationT<R, C>::barrierActiveCells(Vec xLocal, PetscInt *c
     if (!cells_.cells()[c].owned || m.singularity.mode != energies::SingularityMode::Barrier ||
         !energies::energyContainsStretchInvariant(m.kind))
       continue;
-    const double a = energies::elementAlpha<R, C>(cells_.deformationGradient(c, x));
-    local += a > 0.0 && a < m.singularity.barrier.eps;
+    for (int p = 0; p < NQ; ++p) {  // a cell counts once, if any of its points is in the barrier's band
+      const double a = energies::elementAlpha<R, C>(cells_.deformationGradient(c, p, x));
+      if (a > 0.0 && a < m.singularity.barrier.eps) {
+        ++local;
+        break;
+      }
+    }
   }
   PetscCall(VecRestoreArrayRead(xLocal, &x));
   PetscCallMPI(MPI_Allreduce(&local, count, 1, MPIU_INT, MPI_SUM, comm()));
   PetscFunctionReturn(0);
 }
 
-template <int R, int C>
-void DiscretizationT<R, C>::mollifierBandTop(std::vector<double> *top) const {
+template <int R, int C, int NV>
+void DiscretizationT<R, C, NV>::mollifierBandTop(std::vector<double> *top) const {
   top->resize(cells_.size());
   for (size_t c = 0; c < cells_.size(); ++c) {
     const energies::Material &m = cells_.materialOf(c);
@@ -55,19 +60,19 @@ void DiscretizationT<R, C>::mollifierBandTop(std::vector<double> *top) const {
   }
 }
 
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::cellAlpha(Vec xLocal, std::vector<double> *alpha) const {
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::cellAlpha(Vec xLocal, std::vector<double> *alpha) const {
   const PetscScalar *x;
   PetscFunctionBeginUser;
   alpha->resize(cells_.size());
   PetscCall(VecGetArrayRead(xLocal, &x));
-  for (size_t c = 0; c < cells_.size(); ++c) (*alpha)[c] = energies::elementAlpha<R, C>(cells_.deformationGradient(c, x));
+  for (size_t c = 0; c < cells_.size(); ++c) (*alpha)[c] = cells_.alpha(c, x);
   PetscCall(VecRestoreArrayRead(xLocal, &x));
   PetscFunctionReturn(0);
 }
 
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::cellGuard(Vec xLocal, std::vector<double> *guard) const {
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::cellGuard(Vec xLocal, std::vector<double> *guard) const {
   PetscFunctionBeginUser;
   PetscCall(cellAlpha(xLocal, guard));
   if constexpr (R == 2 && C == 2) {
@@ -75,55 +80,62 @@ PetscErrorCode DiscretizationT<R, C>::cellGuard(Vec xLocal, std::vector<double> 
       const PetscScalar *x;
       PetscCall(VecGetArrayRead(xLocal, &x));
       for (size_t c = 0; c < cells_.size(); ++c)
-        (*guard)[c] = std::min((*guard)[c], cells_.deformationGradient(c, x).determinant());
+        (*guard)[c] = std::min((*guard)[c], cells_.deformationGradient(c, 0, x).determinant());
       PetscCall(VecRestoreArrayRead(xLocal, &x));
     }
   }
   PetscFunctionReturn(0);
 }
 
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::cellQuantities(Vec xLocal, CellQuantities *q) const {
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::cellQuantities(Vec xLocal, CellQuantities *q) const {
   const PetscScalar *x;
   PetscFunctionBeginUser;
   q->alpha.resize(cells_.size());
   q->energyDensity.resize(cells_.size());
   PetscCall(VecGetArrayRead(xLocal, &x));
   for (size_t c = 0; c < cells_.size(); ++c) {
-    q->alpha[c] = energies::elementAlpha<R, C>(cells_.deformationGradient(c, x));
+    q->alpha[c] = cells_.alpha(c, x);
     q->energyDensity[c] = cells_.energyDensity(c, x);
   }
   PetscCall(VecRestoreArrayRead(xLocal, &x));
   PetscFunctionReturn(0);
 }
 
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::cellStressMeasures(Vec xLocal, std::vector<kernels::StressMeasures> *out) const {
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::cellStressMeasures(Vec xLocal, std::vector<kernels::StressMeasures> *out) const {
   const PetscScalar *x;
   PetscFunctionBeginUser;
   out->resize(cells_.size());
   PetscCall(VecGetArrayRead(xLocal, &x));
   for (size_t c = 0; c < cells_.size(); ++c) {
     const Cell &cell = cells_.cells()[c];
-    kernels::Mat<3, C> Frest = kernels::Mat<3, C>::Zero();  // the cell's chart -> rest shape (orthonormal columns)
-    for (int v = 0; v < NV; ++v) Frest += verts_[cell.vertex[v]].rest * cell.W.row(v);
-    const kernels::Mat<R, C> F = cells_.deformationGradient(c, x);
-    const auto d =
-        energies::evaluateEnergy<R, C>(cells_.materialOf(c), cells_.dataOf(c), F, kernels::Order::Gradient);
-    (*out)[c] = kernels::stressMeasures<R, C>(F, kernels::unflatten<R, C>(d.grad), Frest);
+    // A hexahedron's measures: the average over its points, weighted by the points' measure.
+    kernels::StressMeasures mean = NQ == 1 ? kernels::StressMeasures{} : kernels::StressMeasures::zero();
+    for (int p = 0; p < NQ; ++p) {
+      kernels::Mat<3, C> Frest = kernels::Mat<3, C>::Zero();  // the cell's chart -> rest shape
+      for (int v = 0; v < NV; ++v) Frest += verts_[cell.vertex[v]].rest * cell.W[p].row(v);
+      const kernels::Mat<R, C> F = cells_.deformationGradient(c, p, x);
+      const auto d =
+          energies::evaluateEnergy<R, C>(cells_.materialOf(c), cells_.dataOf(c), F, kernels::Order::Gradient);
+      const kernels::StressMeasures sp = kernels::stressMeasures<R, C>(F, kernels::unflatten<R, C>(d.grad), Frest);
+      if constexpr (NQ == 1) mean = sp;
+      else mean.accumulate(sp, cell.weight[p] / cell.measure);
+    }
+    (*out)[c] = mean;
   }
   PetscCall(VecRestoreArrayRead(xLocal, &x));
   PetscFunctionReturn(0);
 }
 
-template <int R, int C>
-void DiscretizationT<R, C>::cellRegions(std::vector<double> *regions) const {
+template <int R, int C, int NV>
+void DiscretizationT<R, C, NV>::cellRegions(std::vector<double> *regions) const {
   regions->resize(cells_.size());
   for (size_t c = 0; c < cells_.size(); ++c) (*regions)[c] = cells_.cells()[c].region;
 }
 
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::ownedVertexReactions(Vec xLocal, std::vector<double> *values) const {
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::ownedVertexReactions(Vec xLocal, std::vector<double> *values) const {
   PetscFunctionBeginUser;
   Vec g;
   PetscCall(VecDuplicate(xLocal, &g));
@@ -141,13 +153,13 @@ PetscErrorCode DiscretizationT<R, C>::ownedVertexReactions(Vec xLocal, std::vect
   PetscFunctionReturn(0);
 }
 
-template <int R, int C>
-void DiscretizationT<R, C>::ownedVertexMarkers(std::vector<double> *values) const {
+template <int R, int C, int NV>
+void DiscretizationT<R, C, NV>::ownedVertexMarkers(std::vector<double> *values) const {
   ownedVertexRows(1, [&](size_t v, double *out) { out[0] = verts_[v].bcSet + 1.0; }, values);
 }
 
-template <int R, int C>
-void DiscretizationT<R, C>::ownedVertexRows(int comps, const std::function<void(size_t, double *)> &value,
+template <int R, int C, int NV>
+void DiscretizationT<R, C, NV>::ownedVertexRows(int comps, const std::function<void(size_t, double *)> &value,
                                             std::vector<double> *values) const {
   values->clear();
   std::vector<double> one(comps);
@@ -158,8 +170,8 @@ void DiscretizationT<R, C>::ownedVertexRows(int comps, const std::function<void(
   }
 }
 
-template <int R, int C>
-void DiscretizationT<R, C>::ownedVertexIds(std::vector<PetscInt> *natural, std::vector<PetscInt> *local) const {
+template <int R, int C, int NV>
+void DiscretizationT<R, C, NV>::ownedVertexIds(std::vector<PetscInt> *natural, std::vector<PetscInt> *local) const {
   natural->clear();
   if (local) local->clear();
   for (size_t v = 0; v < verts_.size(); ++v)
@@ -169,15 +181,15 @@ void DiscretizationT<R, C>::ownedVertexIds(std::vector<PetscInt> *natural, std::
     }
 }
 
-template <int R, int C>
-void DiscretizationT<R, C>::ownedCellIds(std::vector<PetscInt> *natural) const {
+template <int R, int C, int NV>
+void DiscretizationT<R, C, NV>::ownedCellIds(std::vector<PetscInt> *natural) const {
   natural->clear();
   for (size_t c = 0; c < cells_.size(); ++c)
     if (cells_.cells()[c].owned) natural->push_back(mesh_->naturalCell[c]);
 }
 
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::reactionForce(Vec xLocal, size_t set, Eigen::Vector3d *force) const {
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::reactionForce(Vec xLocal, size_t set, Eigen::Vector3d *force) const {
   PetscFunctionBeginUser;
   Vec g;
   PetscCall(VecDuplicate(xLocal, &g));
@@ -195,8 +207,8 @@ PetscErrorCode DiscretizationT<R, C>::reactionForce(Vec xLocal, size_t set, Eige
   PetscFunctionReturn(0);
 }
 
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::maxDisplacement(Vec xLocal, PetscReal *value) const {
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::maxDisplacement(Vec xLocal, PetscReal *value) const {
   const PetscScalar *x;
   PetscFunctionBeginUser;
   PetscCall(VecGetArrayRead(xLocal, &x));
@@ -211,8 +223,8 @@ PetscErrorCode DiscretizationT<R, C>::maxDisplacement(Vec xLocal, PetscReal *val
   PetscFunctionReturn(0);
 }
 
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::vertexSpin(Vec xLocal, Vec dLocal, std::vector<double> *spin) const {
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::vertexSpin(Vec xLocal, Vec dLocal, std::vector<double> *spin) const {
   PetscFunctionBeginUser;
   spin->assign(3 * verts_.size(), 0.0);
   if constexpr (R == 3 && C == 3) {
@@ -223,13 +235,15 @@ PetscErrorCode DiscretizationT<R, C>::vertexSpin(Vec xLocal, Vec dLocal, std::ve
     for (size_t c = 0; c < cells_.size(); ++c) {
       const auto &cell = cells_.cells()[c];
       if (!cell.owned) continue;
-      const kernels::Mat<3, 3> F = cells_.deformationGradient(c, x);
-      if (!(F.determinant() > 0.25)) continue;  // inverted or collapsed: its spin says nothing
-      const kernels::Mat<3, 3> G = cells_.deformationGradient(c, d) * F.inverse();
-      const Eigen::Vector3d w(0.5 * (G(2, 1) - G(1, 2)), 0.5 * (G(0, 2) - G(2, 0)), 0.5 * (G(1, 0) - G(0, 1)));
-      for (PetscInt v : cell.vertex) {
-        for (int i = 0; i < 3; ++i) sum[4 * v + i] += cell.measure * w[i];
-        sum[4 * v + 3] += cell.measure;
+      for (int p = 0; p < NQ; ++p) {
+        const kernels::Mat<3, 3> F = cells_.deformationGradient(c, p, x);
+        if (!(F.determinant() > 0.25)) continue;  // inverted or collapsed: its spin says nothing
+        const kernels::Mat<3, 3> G = cells_.deformationGradient(c, p, d) * F.inverse();
+        const Eigen::Vector3d w(0.5 * (G(2, 1) - G(1, 2)), 0.5 * (G(0, 2) - G(2, 0)), 0.5 * (G(1, 0) - G(0, 1)));
+        for (PetscInt v : cell.vertex) {
+          for (int i = 0; i < 3; ++i) sum[4 * v + i] += cell.weight[p] * w[i];
+          sum[4 * v + 3] += cell.weight[p];
+        }
       }
     }
     PetscCall(VecRestoreArrayRead(dLocal, &d));
@@ -242,8 +256,8 @@ PetscErrorCode DiscretizationT<R, C>::vertexSpin(Vec xLocal, Vec dLocal, std::ve
   PetscFunctionReturn(0);
 }
 
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::turnBySpin(const std::vector<double> &spin, Vec dLocal, double scale,
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::turnBySpin(const std::vector<double> &spin, Vec dLocal, double scale,
                                                  Vec outLocal) const {
   PetscFunctionBeginUser;
   PetscCall(VecAXPBY(outLocal, scale, 0.0, dLocal));
@@ -270,8 +284,8 @@ PetscErrorCode DiscretizationT<R, C>::turnBySpin(const std::vector<double> &spin
   PetscFunctionReturn(0);
 }
 
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::ownedVertexValues(Vec local, std::vector<double> *values) const {
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::ownedVertexValues(Vec local, std::vector<double> *values) const {
   const PetscScalar *a;
   PetscFunctionBeginUser;
   PetscCall(VecGetArrayRead(local, &a));
@@ -282,15 +296,15 @@ PetscErrorCode DiscretizationT<R, C>::ownedVertexValues(Vec local, std::vector<d
   PetscFunctionReturn(0);
 }
 
-template <int R, int C>
-void DiscretizationT<R, C>::ownedRestPositions(std::vector<double> *values) const {
+template <int R, int C, int NV>
+void DiscretizationT<R, C, NV>::ownedRestPositions(std::vector<double> *values) const {
   ownedVertexRows(3, [&](size_t v, double *out) {
     for (int i = 0; i < 3; ++i) out[i] = verts_[v].rest[i];
   }, values);
 }
 
-template <int R, int C>
-void DiscretizationT<R, C>::ownedCellValues(const std::vector<double> &perCell, int components,
+template <int R, int C, int NV>
+void DiscretizationT<R, C, NV>::ownedCellValues(const std::vector<double> &perCell, int components,
                                             std::vector<double> *values) const {
   values->clear();
   for (size_t c = 0; c < cells_.size(); ++c)
@@ -298,18 +312,19 @@ void DiscretizationT<R, C>::ownedCellValues(const std::vector<double> &perCell, 
       values->insert(values->end(), perCell.begin() + c * components, perCell.begin() + (c + 1) * components);
 }
 
-template <int R, int C>
-void DiscretizationT<R, C>::ownedTopology(std::vector<PetscInt> *cellsOut) const {
+template <int R, int C, int NV>
+void DiscretizationT<R, C, NV>::ownedTopology(std::vector<PetscInt> *cellsOut) const {
   cellsOut->clear();
   for (size_t c = 0; c < cells_.size(); ++c) {
     const Cell &cell = cells_.cells()[c];
     if (!cell.owned) continue;
-    for (int v = 0; v < NV; ++v) cellsOut->push_back(mesh_->naturalVertex[cell.vertex[v]]);
+    for (int v = 0; v < NV; ++v)  // hexahedra in VTK/XDMF order
+      cellsOut->push_back(mesh_->naturalVertex[cell.vertex[NV == 8 ? kernels::hex8::kVtkFromClosure[v] : v]]);
   }
 }
 
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::cellFibers(std::vector<double> *fibers) const {
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::cellFibers(std::vector<double> *fibers) const {
   PetscFunctionBeginUser;
   fibers->clear();
   for (const auto &f : restFibers_) fibers->insert(fibers->end(), f.begin(), f.end());
@@ -320,8 +335,8 @@ PetscErrorCode DiscretizationT<R, C>::cellFibers(std::vector<double> *fibers) co
 // one cell per region): at its rest deformation gradient the stretch terms must be stationary (a caricature's I4 term
 // is not: its minimum is a stretch along n) with a Hessian whose only zero eigenvalues are the three rotations' and
 // none negative.
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::stretchTermsFixShape(bool *fixes) const {
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::stretchTermsFixShape(bool *fixes) const {
   PetscFunctionBeginUser;
   int ok = R == 3 && C == 3;
   if constexpr (R == 3 && C == 3) {
@@ -351,5 +366,6 @@ PetscErrorCode DiscretizationT<R, C>::stretchTermsFixShape(bool *fixes) const {
 template class DiscretizationT<3, 3>;
 template class DiscretizationT<2, 2>;
 template class DiscretizationT<3, 2>;
+template class DiscretizationT<3, 3, 8>;
 
 }  // namespace aries::fem

@@ -18,11 +18,31 @@ double Discretization::characteristicModulus() const {
   return m > 0.0 ? m : 1.0;
 }
 
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::setup(Mesh &mesh, const FemOptions &o, double dt) {
+// What hexahedral meshes do not have yet: the follower pressure (it integrates over triangle faces) and the caricature
+// field (its curvature comes from the tet mesh's boundary triangles). One line naming the option, before any work.
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::refuseOnHexahedra(const Mesh &mesh, const FemOptions &o) const {
+  PetscFunctionBeginUser;
+  for (const SurfaceLoad &load : o.loads)
+    if (load.kind == SurfaceLoad::Kind::Pressure)
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+              "option -load_pressure_%s: the follower pressure needs a tetrahedral mesh (mesh '%s' has hexahedra); use "
+              "-load_traction_%s for a dead load",
+              load.set.c_str(), mesh.filename.c_str(), load.set.c_str());
+  for (const MaterialOptions &m : o.materials)
+    if (energies::energyCellField(m.material.kind) == energies::CellField::SurfaceCurvature)
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+              "option -energy %s: the caricature's curvature field needs a tetrahedral mesh (mesh '%s' has hexahedra)",
+              energies::energyName(m.material.kind), mesh.filename.c_str());
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::setup(Mesh &mesh, const FemOptions &o, double dt) {
   PetscFunctionBeginUser;
   mesh_ = &mesh;
   dofs_ = R;
+  if constexpr (NV == 8) PetscCall(refuseOnHexahedra(mesh, o));
   std::vector<UniformCellData> regionCells;
   std::vector<std::pair<DMLabel, PetscInt>> regionLabels;  // (label, value) marking each region's cells
   for (const MaterialOptions &m : o.materials) {
@@ -53,11 +73,11 @@ PetscErrorCode DiscretizationT<R, C>::setup(Mesh &mesh, const FemOptions &o, dou
 // the DOF layout on `mesh`'s DM (a DMClone of this one's: the same local cells and vertices) with every vertex free;
 // the elastic terms (and cloth bending) with no gravity, contact or surface loads. The barrier's fallback cells are not carried
 // over: the detached body is evaluated as read.
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::detachedCopy(Mesh &mesh, std::unique_ptr<Discretization> *out) const {
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::detachedCopy(Mesh &mesh, std::unique_ptr<Discretization> *out) const {
   PetscInt pStart, pEnd;
   PetscFunctionBeginUser;
-  auto d = std::make_unique<DiscretizationT<R, C>>();
+  auto d = std::make_unique<DiscretizationT<R, C, NV>>();
   d->mesh_ = &mesh;
   d->dofs_ = R;
   d->bc_ = bc_;
@@ -66,6 +86,7 @@ PetscErrorCode DiscretizationT<R, C>::detachedCopy(Mesh &mesh, std::unique_ptr<D
   d->dyn_ = dyn_;
   d->dyn_.gravity.setZero();
   d->hessianFilter_ = hessianFilter_;
+  d->wholeElementFilter_ = wholeElementFilter_;
   d->step_ = step_;
   std::vector<Eigen::Vector3d> rest(verts_.size());
   for (size_t v = 0; v < verts_.size(); ++v) rest[v] = verts_[v].rest;
@@ -84,8 +105,8 @@ PetscErrorCode DiscretizationT<R, C>::detachedCopy(Mesh &mesh, std::unique_ptr<D
   PetscFunctionReturn(0);
 }
 
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::addBendingHinges(Mesh &mesh, double stiffness) {
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::addBendingHinges(Mesh &mesh, double stiffness) {
   PetscFunctionBeginUser;
   hinges_ = std::make_unique<BendingHinges>(verts_, stiffness);
   const auto opposite = [&](PetscInt cell, PetscInt v0, PetscInt v1) {
@@ -99,8 +120,8 @@ PetscErrorCode DiscretizationT<R, C>::addBendingHinges(Mesh &mesh, double stiffn
   PetscFunctionReturn(0);
 }
 
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::addInertiaGravity(const Mesh &mesh) {
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::addInertiaGravity(const Mesh &mesh) {
   PetscSection localSection;
   PetscInt localSize;
   PetscFunctionBeginUser;
@@ -113,8 +134,8 @@ PetscErrorCode DiscretizationT<R, C>::addInertiaGravity(const Mesh &mesh) {
 
 // The terms of the total potential, in assembly order: elastic cells, cloth bending hinges (-bending, surfaces in
 // 3D), contact with analytic obstacles (3D meshes), inertia and gravity, surface loads.
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::setupTerms(Mesh &mesh, const FemOptions &o, double dt) {
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::setupTerms(Mesh &mesh, const FemOptions &o, double dt) {
   PetscFunctionBeginUser;
   terms_ = {&cells_};
   keepOrientation_ = o.keepOrientation ? PETSC_TRUE : PETSC_FALSE;
@@ -147,8 +168,8 @@ PetscErrorCode DiscretizationT<R, C>::setupTerms(Mesh &mesh, const FemOptions &o
   PetscFunctionReturn(0);
 }
 
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::setStep(const StepState &step) {
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::setStep(const StepState &step) {
   PetscFunctionBeginUser;
   const bool moved = step.load != step_.load || step.time != step_.time;
   step_ = step;
@@ -171,8 +192,8 @@ PetscErrorCode DiscretizationT<R, C>::setStep(const StepState &step) {
   PetscFunctionReturn(0);
 }
 
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::fillBoundary(Vec xLocal) const {
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::fillBoundary(Vec xLocal) const {
   PetscScalar *x;
   PetscFunctionBeginUser;
   PetscCall(VecGetArray(xLocal, &x));
@@ -183,8 +204,8 @@ PetscErrorCode DiscretizationT<R, C>::fillBoundary(Vec xLocal) const {
   PetscFunctionReturn(0);
 }
 
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::restPositions(Vec xGlobal) const {
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::restPositions(Vec xGlobal) const {
   PetscScalar *x;
   PetscInt lo;
   PetscFunctionBeginUser;
@@ -198,8 +219,8 @@ PetscErrorCode DiscretizationT<R, C>::restPositions(Vec xGlobal) const {
   PetscFunctionReturn(0);
 }
 
-template <int R, int C>
-void DiscretizationT<R, C>::forEachOwnedFreeVertex(
+template <int R, int C, int NV>
+void DiscretizationT<R, C, NV>::forEachOwnedFreeVertex(
     const std::function<void(PetscInt, PetscInt, const PetscInt *, const Eigen::Vector3d &)> &fn) const {
   for (size_t v = 0; v < verts_.size(); ++v) {
     const auto &vi = verts_[v];
@@ -209,8 +230,8 @@ void DiscretizationT<R, C>::forEachOwnedFreeVertex(
   }
 }
 
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::lumpedMass(Vec massGlobal) const {
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::lumpedMass(Vec massGlobal) const {
   PetscScalar *m;
   PetscInt lo;
   PetscFunctionBeginUser;
@@ -226,8 +247,8 @@ PetscErrorCode DiscretizationT<R, C>::lumpedMass(Vec massGlobal) const {
   PetscFunctionReturn(0);
 }
 
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::vertexPositions(Vec xLocal, std::vector<double> *xyz) const {
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::vertexPositions(Vec xLocal, std::vector<double> *xyz) const {
   const PetscScalar *x;
   PetscFunctionBeginUser;
   xyz->assign(3 * verts_.size(), 0.0);
@@ -238,8 +259,8 @@ PetscErrorCode DiscretizationT<R, C>::vertexPositions(Vec xLocal, std::vector<do
   PetscFunctionReturn(0);
 }
 
-template <int R, int C>
-void DiscretizationT<R, C>::ownedSupportedVertices(std::vector<PetscInt> *local) const {
+template <int R, int C, int NV>
+void DiscretizationT<R, C, NV>::ownedSupportedVertices(std::vector<PetscInt> *local) const {
   local->clear();
   for (size_t v = 0; v < verts_.size(); ++v)
     if (verts_[v].owned && verts_[v].bcSet >= 0 && verts_[v].numFree == 0) local->push_back(static_cast<PetscInt>(v));
@@ -248,6 +269,7 @@ void DiscretizationT<R, C>::ownedSupportedVertices(std::vector<PetscInt> *local)
 template class DiscretizationT<3, 3>;
 template class DiscretizationT<2, 2>;
 template class DiscretizationT<3, 2>;
+template class DiscretizationT<3, 3, 8>;
 
 bool Discretization::suspendVolumeTerms(bool suspend) {
   bool changed = false;
@@ -275,9 +297,15 @@ PetscErrorCode Discretization::create(Mesh &mesh, const FemOptions &options, dou
   PetscFunctionBeginUser;
   switch (mesh.shape) {
     case ElementShape::Tet: {
-      auto d = std::make_unique<DiscretizationT<3, 3>>();
-      PetscCall(d->setup(mesh, options, dt));
-      *out = std::move(d);
+      if (mesh.hexahedra) {
+        auto d = std::make_unique<DiscretizationT<3, 3, 8>>();
+        PetscCall(d->setup(mesh, options, dt));
+        *out = std::move(d);
+      } else {
+        auto d = std::make_unique<DiscretizationT<3, 3>>();
+        PetscCall(d->setup(mesh, options, dt));
+        *out = std::move(d);
+      }
       break;
     }
     case ElementShape::Planar: {

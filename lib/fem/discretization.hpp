@@ -152,6 +152,9 @@ class Discretization {
   kernels::EigenFilter eigenFilter() const { return hessianFilter_.filter; }
   // Closed-form eigensystems where an energy has one (-psd_eigensystem analytic), else the numeric eigensolve.
   void setAnalyticEigensystem(bool analytic) { hessianFilter_.analytic = analytic; }
+  // -psd_scope element: the filter projects each element's whole Hessian (vertex coordinates, summed over its points)
+  // instead of each point's F-space Hessian.
+  void setWholeElementFilter(bool whole) { wholeElementFilter_ = whole; }
   // Gram matrix G_kl = d_k^T H d_l of K <= 8 directions d_k (local vectors with zeros at the Dirichlet dofs) with the
   // true (unfiltered) Hessian H of the total potential at a local state; row-major K x K, collective. The contact term
   // enters with its PSD Hessian (kernels/obstacle_barrier.hpp). Used by the Newton solver's subspace step and the
@@ -173,8 +176,9 @@ class Discretization {
   // mollifier) with 0 < alpha < the barrier's eps (collective count).
   virtual PetscErrorCode barrierActiveCells(Vec xLocal, PetscInt *count) const = 0;
 
-  PetscInt verticesPerCell() const { return shapeCols() + 1; }
+  PetscInt verticesPerCell() const { return cellVertices(); }
   virtual int shapeCols() const = 0;
+  virtual int cellVertices() const = 0;  // 4 (tet), 3 (triangle), 8 (hexahedron)
   virtual const DiagnosticsView &diagnostics() const = 0;
   virtual const Kinematics &kinematics() const = 0;
 
@@ -188,6 +192,7 @@ class Discretization {
   std::vector<double> lambdaRead_;  // the materials' lambda as read, while suspendVolumeTerms(true) holds
   DynamicsTerms dyn_;
   energies::HessianFilter hessianFilter_;
+  bool wholeElementFilter_ = false;
   StepState step_;
 };
 

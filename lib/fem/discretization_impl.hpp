@@ -1,4 +1,4 @@
-// The discretization for one element shape (tet 3x3, planar 2x2, cloth 3x2): internal to lib/fem. Its parts live in
+// The discretization for one element (tet 3x3, hexahedron 3x3, planar 2x2, cloth 3x2): internal to lib/fem. Its parts live in
 // one file per responsibility:
 //   discretization.cpp   setup order, the step state, boundary values, rest positions, mass
 //   dof_layout.cpp       Dirichlet marking, the PetscSection, the vertex table, clamp centers
@@ -25,12 +25,13 @@
 namespace aries::fem {
 
 
-template <int R, int C>
+// NV: vertices per cell (C + 1: linear simplices; 8: trilinear hexahedra, DiscretizationT<3, 3, 8>).
+template <int R, int C, int NV = C + 1>
 class DiscretizationT final : public Discretization, public DiagnosticsView, public Kinematics {
  public:
-  using Cells = ElasticCells<R, C>;
+  using Cells = ElasticCells<R, C, NV>;
   using Cell = typename Cells::Cell;
-  static constexpr int NV = Cells::NV;
+  static constexpr int NQ = Cells::NQ;
 
   PetscErrorCode setup(Mesh &mesh, const FemOptions &o, double dt);
   PetscErrorCode detachedCopy(Mesh &mesh, std::unique_ptr<Discretization> *out) const override;
@@ -58,6 +59,7 @@ class DiscretizationT final : public Discretization, public DiagnosticsView, pub
   void ownedTopology(std::vector<PetscInt> *cells) const override;
   PetscErrorCode cellFibers(std::vector<double> *fibers) const override;
   int shapeCols() const override { return C; }
+  int cellVertices() const override { return NV; }
   const DiagnosticsView &diagnostics() const override { return *this; }
   const Kinematics &kinematics() const override { return *this; }
   void forEachOwnedFreeVertex(
@@ -76,11 +78,15 @@ class DiscretizationT final : public Discretization, public DiagnosticsView, pub
 
  private:
   // Setup, in this order (discretization.cpp).
+  PetscErrorCode refuseOnHexahedra(const Mesh &mesh, const FemOptions &o) const;                 // discretization
   PetscErrorCode markDirichlet(const Mesh &mesh, const std::vector<Eigen::Vector3d> &rest,
                                std::vector<PetscInt> *bcFlag);                                   // dof_layout.cpp
   PetscErrorCode layoutDofs(const Mesh &mesh, const std::vector<Eigen::Vector3d> &rest,
                             const std::vector<PetscInt> &bcFlag);                                // dof_layout.cpp
   PetscErrorCode setupRestCells(const Mesh &mesh, const std::vector<std::pair<DMLabel, PetscInt>> &regionLabels);
+  double simplexRest(Cell *cell, PetscInt spaceDim) const;                                       // rest_geometry
+  double hexahedronRest(Cell *cell) const;                                                       // rest_geometry
+  double vertexShare(const Cell &cell, int v) const;                                             // rest_geometry
   PetscErrorCode checkRestCells(const Mesh &mesh, const std::vector<double> &signedMeasure) const;  // rest_geometry
   PetscErrorCode setupCellData(Mesh &mesh, const FemOptions &o, const std::vector<UniformCellData> &regionCells,
                                bool regions);                                                    // cell_data.cpp

@@ -18,8 +18,8 @@ using core::CentroidAccumulator;
 // Per DM point and component (bcFlag[3 p + i], the sets of bc_, from the options): the index of the first Dirichlet
 // set (clamp sets, then boxes) that prescribes component i of a vertex, PETSC_MAX_INT if none; every copy of a shared
 // vertex agrees (a boundary face may live on one rank only).
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::markDirichlet(const Mesh &mesh, const std::vector<Eigen::Vector3d> &rest,
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::markDirichlet(const Mesh &mesh, const std::vector<Eigen::Vector3d> &rest,
                                                     std::vector<PetscInt> *bcFlagOut) {
   PetscInt pStart, pEnd;
   PetscFunctionBeginUser;
@@ -77,8 +77,8 @@ PetscErrorCode DiscretizationT<R, C>::markDirichlet(const Mesh &mesh, const std:
 // The section (the prescribed components of Dirichlet vertices constrained), the matrix type (BAIJ, bs = R, unless
 // a vertex is prescribed in some components only: AIJ), the vertex table and the clamp centers (default: the centroid
 // of each set at rest over its owned vertices on all ranks).
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::layoutDofs(const Mesh &mesh, const std::vector<Eigen::Vector3d> &rest,
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::layoutDofs(const Mesh &mesh, const std::vector<Eigen::Vector3d> &rest,
                                                  const std::vector<PetscInt> &bcFlag) {
   DM dm = mesh.dm;
   PetscInt pStart, pEnd;
@@ -166,5 +166,6 @@ PetscErrorCode DiscretizationT<R, C>::layoutDofs(const Mesh &mesh, const std::ve
 template class DiscretizationT<3, 3>;
 template class DiscretizationT<2, 2>;
 template class DiscretizationT<3, 2>;
+template class DiscretizationT<3, 3, 8>;
 
 }  // namespace aries::fem

@@ -19,12 +19,15 @@ using core::collectiveCheck;
 
 namespace {
 
-// Element types aries can read: gmsh 1 = 2-node line, 2 = 3-node triangle, 4 = 4-node tetrahedron, 15 = point.
+// Element types aries can read: gmsh 1 = 2-node line, 2 = 3-node triangle, 3 = 4-node quadrangle (the faces of
+// hexahedra), 4 = 4-node tetrahedron, 5 = 8-node hexahedron, 15 = point.
 int nodesOfType(int type) {
   switch (type) {
     case 1: return 2;
     case 2: return 3;
+    case 3: return 4;
     case 4: return 4;
+    case 5: return 8;
     case 15: return 1;
     default: return -1;
   }
@@ -32,8 +35,6 @@ int nodesOfType(int type) {
 
 const char *typeName(int type) {
   switch (type) {
-    case 3: return "4-node quadrangle";
-    case 5: return "8-node hexahedron";
     case 6: return "6-node prism";
     case 7: return "5-node pyramid";
     case 8: return "3-node second-order line";
@@ -101,7 +102,8 @@ bool checkElementType(Reader &r, int type) {
   if (nodesOfType(type) > 0) return true;
   std::ostringstream o;
   o << "unsupported element type " << type << " (" << typeName(type)
-    << "); aries reads linear tetrahedra and triangles (with lines and points for boundary groups)";
+    << "); aries reads linear tetrahedra, triangles and trilinear hexahedra (with lines, quadrangles and points for "
+         "boundary groups)";
   return r.fail(o.str());
 }
 

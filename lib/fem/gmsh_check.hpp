@@ -1,8 +1,8 @@
 // Structural check of a gmsh file before PETSc reads it, so a malformed file gets one message naming the file, the
 // line and what is wrong instead of a reader traceback: regular file with the .msh extension, $MeshFormat 2.x or
 // 4.x, for ASCII files the $Nodes/$Elements counts and line shapes, defined node references, and supported element
-// types (linear tetrahedra and triangles, lines and points for boundary groups). Binary files are checked only
-// through their header.
+// types (linear tetrahedra, triangles and trilinear hexahedra, lines, quadrangles and points for boundary groups).
+// Binary files are checked only through their header.
 #pragma once
 
 #include <petscsys.h>

@@ -107,6 +107,37 @@ PetscErrorCode classifyShape(const GmshFacts &facts, Mesh *mesh) {
   PetscFunctionReturn(0);
 }
 
+// The cells' polytope: all tetrahedra, all triangles, or all hexahedra (mesh->hexahedra); any other cell, or a mix,
+// is a one-line error naming the file. Collective (rank 0 may hold every cell).
+PetscErrorCode classifyCells(DM dm, Mesh *mesh) {
+  PetscFunctionBeginUser;
+  PetscInt cStart, cEnd;
+  PetscCall(DMPlexGetHeightStratum(dm, 0, &cStart, &cEnd));
+  int kinds = 0;  // bit per DMPolytopeType present
+  for (PetscInt c = cStart; c < cEnd; ++c) {
+    DMPolytopeType type;
+    PetscCall(DMPlexGetCellType(dm, c, &type));
+    kinds |= 1 << static_cast<int>(type);
+  }
+  int all = 0;
+  PetscCallMPI(MPI_Allreduce(&kinds, &all, 1, MPI_INT, MPI_BOR, PetscObjectComm((PetscObject)dm)));
+  const int tet = 1 << DM_POLYTOPE_TETRAHEDRON, tri = 1 << DM_POLYTOPE_TRIANGLE, hex = 1 << DM_POLYTOPE_HEXAHEDRON;
+  if (all != tet && all != tri && all != hex) {
+    std::string present;
+    for (int t = 0; t < DM_NUM_POLYTOPES; ++t)
+      if (all & (1 << t)) present += std::string(present.empty() ? "" : ", ") + DMPolytopeTypes[t];
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+            "mesh '%s' (%s) has cells of type %s; aries needs one cell type: linear tetrahedra, triangles, or "
+            "trilinear hexahedra",
+            mesh->filename.c_str(), mesh->fileOption.c_str(), present.c_str());
+  }
+  mesh->hexahedra = all == hex;
+  if (mesh->hexahedra && mesh->uvMap)
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -uv_map needs a triangle surface (mesh '%s' has hexahedra)",
+            mesh->filename.c_str());
+  PetscFunctionReturn(0);
+}
+
 // Natural ids of the local cells and vertices: `loaded` holds one per point of the chart of the mesh as read (cell id,
 // vertex id, or -1), and the migration SF (leaf: a point of the distributed mesh, root: the point it came from; none on
 // one rank) carries them to the distributed mesh. Cells that are leaves of the point SF belong to another rank
@@ -131,24 +162,6 @@ PetscErrorCode numberNaturally(PetscSF migration, const std::vector<PetscInt> &l
   PetscCall(sharedLeafPoints(mesh->dm, &leaf));
   mesh->cellOwned.resize(mesh->cEnd - mesh->cStart);
   for (PetscInt c = mesh->cStart; c < mesh->cEnd; ++c) mesh->cellOwned[c - mesh->cStart] = !leaf[c - pStart];
-  PetscFunctionReturn(0);
-}
-
-// Only linear simplices (tetrahedra, triangles).
-PetscErrorCode checkSimplices(MPI_Comm comm, const Mesh &mesh) {
-  PetscFunctionBeginUser;
-  bool bad = false;
-  for (PetscInt c = mesh.cStart; c < mesh.cEnd && !bad; ++c) {
-    DMPolytopeType ct;
-    PetscCall(DMPlexGetCellType(mesh.dm, c, &ct));
-    bad = !(ct == DM_POLYTOPE_TETRAHEDRON || ct == DM_POLYTOPE_TRIANGLE);
-  }
-  int anyBad = bad, globalBad = 0;
-  PetscCallMPI(MPI_Allreduce(&anyBad, &globalBad, 1, MPI_INT, MPI_MAX, comm));
-  if (globalBad)
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
-            "mesh '%s' contains cells that are not tetrahedra/triangles; aries supports linear simplices only",
-            mesh.filename.c_str());
   PetscFunctionReturn(0);
 }
 
@@ -214,7 +227,8 @@ PetscErrorCode readGmshMesh(MPI_Comm comm, Mesh *mesh, DM *serial, std::vector<P
   PetscCall(DMGetDimension(*serial, &mesh->topoDim));
   PetscCall(DMGetCoordinateDim(*serial, &mesh->spaceDim));
   {
-    const PetscErrorCode ierr = classifyShape(facts, mesh);
+    PetscErrorCode ierr = classifyShape(facts, mesh);
+    if (!ierr) ierr = classifyCells(*serial, mesh);
     if (ierr) PetscCall(DMDestroy(serial));
     PetscCall(ierr);
   }
@@ -283,7 +297,6 @@ PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh, const std::string &file, cons
   PetscCall(DMPlexGetDepthStratum(mesh->dm, 0, &mesh->vStart, &mesh->vEnd));
 
   PetscCall(numberNaturally(migration, loadedNatural, mesh));  // destroys the migration SF
-  PetscCall(checkSimplices(comm, *mesh));
 
   // PETSc's mesh viewer (-dm_view[ :file:format], e.g. -dm_view ::ascii_info_detail or -dm_view hdf5:mesh.h5) on the
   // distributed mesh.

@@ -23,7 +23,8 @@ struct Mesh {
   DM dm = nullptr;  // distributed, interpolated DMPlex with coordinates and the gmsh labels
   std::string filename;
   std::string fileOption = "-dm_plex_filename";  // the option that named the file (error messages)
-  energies::ElementShape shape = energies::ElementShape::Tet;
+  energies::ElementShape shape = energies::ElementShape::Tet;  // the shape of F: 3x3 for tetrahedra and hexahedra
+  bool hexahedra = false;  // trilinear hexahedra (Q1, 2x2x2 Gauss points) instead of linear tetrahedra
   bool uvMap = false;  // -uv_map: planar elements (2D unknowns) on a 3D surface, rest = each 3D triangle
   PetscInt topoDim = 3, spaceDim = 3;
   PetscInt cStart = 0, cEnd = 0, vStart = 0, vEnd = 0;

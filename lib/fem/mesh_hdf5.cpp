@@ -131,8 +131,8 @@ PetscErrorCode labelRows(const Mesh &mesh, DMLabel label, const std::vector<Pets
       row[1] = depth;
       row[2] = v[k];
       PetscCall(closureVertices(mesh.dm, pts[i], mesh.vStart, mesh.vEnd, vertexIds.data(), &ids));
-      std::sort(ids.begin(), ids.end());
-      std::copy(ids.begin(), ids.end(), row.begin() + 3);
+      std::sort(ids.begin(), ids.end());  // a point of a cell is known by its 3 smallest vertex ids (a quadrangle too)
+      std::copy(ids.begin(), ids.begin() + std::min<size_t>(ids.size(), 3), row.begin() + 3);
       PetscCall(DMPlexGetTransitiveClosure(mesh.dm, pts[i], PETSC_FALSE, &n, &star));
       for (PetscInt j = 0; j < 2 * n; j += 2) {
         if (star[j] < mesh.cStart || star[j] >= mesh.cEnd) continue;
@@ -224,7 +224,7 @@ PetscErrorCode applyLabelRows(DM dm, DMLabel label, const std::vector<long long>
         if (d != depth) continue;
         PetscCall(closureVertices(dm, closure[i], vStart, vEnd, vertexNatural, &ids));
         std::sort(ids.begin(), ids.end());
-        bool same = ids.size() <= 3;
+        bool same = true;
         for (size_t j = 0; j < 3 && same; ++j) same = (j < ids.size() ? ids[j] : -1) == rows[r + 3 + j];
         if (same) point = closure[i];
       }
@@ -303,6 +303,7 @@ PetscErrorCode readHdf5Mesh(MPI_Comm comm, Mesh *mesh, DM *dm, std::vector<Petsc
   PetscCall(DMGetDimension(*dm, &mesh->topoDim));
   PetscCall(DMGetCoordinateDim(*dm, &mesh->spaceDim));
   PetscCall(classifyShape(GmshFacts(), mesh));  // a curved surface was checked when it was converted
+  PetscCall(classifyCells(*dm, mesh));
 
   const std::vector<std::string> labelNames = splitLines(facts.labelNames);
   for (size_t k = 0; k < labelNames.size(); ++k) {
@@ -354,7 +355,6 @@ PetscErrorCode convertMesh(MPI_Comm comm, const std::string &out) {
   mesh.dm = serial;
   PetscCall(DMPlexGetHeightStratum(serial, 0, &mesh.cStart, &mesh.cEnd));
   PetscCall(DMPlexGetDepthStratum(serial, 0, &mesh.vStart, &mesh.vEnd));
-  PetscCall(checkSimplices(comm, mesh));
   const std::string tmp = out + ".tmp";
   bool writable = true;
   if (rank == 0) {  // a one-line error here rather than HDF5's stack
@@ -366,7 +366,7 @@ PetscErrorCode convertMesh(MPI_Comm comm, const std::string &out) {
                                                    "not writable"));
 
   // Rank 0 holds the serial mesh: its cells (closure order), coordinates and labels as rows.
-  const int corners = mesh.topoDim + 1;  // linear simplices (checkSimplices)
+  const int corners = mesh.hexahedra ? 8 : mesh.topoDim + 1;  // one cell type (classifyCells)
   std::vector<PetscInt> vertexIds(mesh.vEnd - mesh.vStart);
   for (PetscInt v = mesh.vStart; v < mesh.vEnd; ++v) vertexIds[v - mesh.vStart] = v - mesh.vStart;
   std::vector<double> cellRows, coordRows;

@@ -13,10 +13,10 @@ namespace aries::fem::loading {
 
 // The element shape from the cell and space dimensions (-uv_map: triangles in 3D with 2D unknowns).
 PetscErrorCode classifyShape(const GmshFacts &facts, Mesh *mesh);
+// The cells' polytope (mesh->hexahedra): one type, tetrahedra, triangles or hexahedra; collective.
+PetscErrorCode classifyCells(DM dm, Mesh *mesh);
 // "dim tag name" lines (rank 0's blob, broadcast) parsed into the mesh's physical names.
 PetscErrorCode parsePhysicalNames(MPI_Comm comm, std::string blob, std::map<std::string, Mesh::PhysicalGroup> *names);
-// Only linear simplices (tetrahedra, triangles); collective.
-PetscErrorCode checkSimplices(MPI_Comm comm, const Mesh &mesh);
 // The gmsh file -dm_plex_filename read on rank 0: its serial DM, the natural id of every point of its chart (cell or
 // vertex number, -1 for others), the physical names and the global counts.
 PetscErrorCode readGmshMesh(MPI_Comm comm, Mesh *mesh, DM *serial, std::vector<PetscInt> *natural);

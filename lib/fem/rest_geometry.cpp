@@ -8,6 +8,7 @@
 #include <petscdmplex.h>
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace aries::fem {
@@ -46,8 +47,64 @@ Eigen::Matrix<double, 3, 2> clothFrame(const Eigen::Vector3d &n) {
 
 }  // namespace
 
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::setupRestCells(const Mesh &mesh,
+// A linear simplex: rest edge matrix Dm in the material frame (C x C), W = [-1^T Dm^-1; Dm^-1], one point carrying
+// the whole measure. Returns the signed rest measure.
+template <int R, int C, int NV>
+double DiscretizationT<R, C, NV>::simplexRest(Cell *cellp, PetscInt spaceDim) const {
+  Cell &cell = *cellp;
+  kernels::Mat<C, C> Dm;
+  bool projected = false;
+  if constexpr (C == 2) {
+    if (spaceDim == 3) {  // cloth, or a UV map: the 3D triangle in its material frame
+      const Eigen::Vector3d X0 = verts_[cell.vertex[0]].rest;
+      const Eigen::Vector3d e1 = verts_[cell.vertex[1]].rest - X0, e2 = verts_[cell.vertex[2]].rest - X0;
+      Eigen::Vector3d n = e1.cross(e2);
+      n = n.norm() > 0.0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d::UnitZ();
+      const Eigen::Matrix<double, 3, 2> E = clothFrame(n);
+      Dm.col(0) = E.transpose() * e1;
+      Dm.col(1) = E.transpose() * e2;
+      projected = true;
+    }
+  }
+  if (!projected)
+    for (int k2 = 0; k2 < C; ++k2)
+      Dm.col(k2) = (verts_[cell.vertex[k2 + 1]].rest - verts_[cell.vertex[0]].rest).template head<C>();
+  const double det = Dm.determinant();
+  const double signedMeasure = det / (C == 3 ? 6.0 : 2.0);
+  cell.measure = std::abs(signedMeasure);
+  const kernels::Mat<C, C> B = std::abs(det) > 0.0 ? kernels::Mat<C, C>(Dm.inverse()) : kernels::Mat<C, C>::Zero();
+  cell.W[0].row(0) = -B.colwise().sum();
+  cell.W[0].template bottomRows<C>() = B;
+  cell.weight[0] = cell.measure;
+  return signedMeasure;
+}
+
+// A trilinear hexahedron: W and det J at its 2x2x2 Gauss points (kernels/element_rules.hpp). Returns its signed
+// rest volume for the rest-cell check when det J has one sign at every point (negative: an inverted cell), and 0 when
+// the signs differ (a folded cell or vertices out of order, which no reordering of the whole mesh fixes: reported as
+// degenerate).
+template <int R, int C, int NV>
+double DiscretizationT<R, C, NV>::hexahedronRest(Cell *cell) const {
+  if constexpr (R == 3 && C == 3 && NV == 8) {
+    kernels::Mat<8, 3> X;
+    for (int v = 0; v < 8; ++v) X.row(v) = verts_[cell->vertex[v]].rest.transpose();
+    const double minDet = kernels::hex8::restPoints(X, &cell->W, &cell->weight);
+    double volume = 0.0, maxDet = -std::numeric_limits<double>::infinity();
+    for (double w : cell->weight) {
+      volume += w;
+      maxDet = std::max(maxDet, w);
+    }
+    cell->measure = std::abs(volume);
+    if (maxDet < 0.0)  // numbered with the other orientation: W_q still gives F = I at rest; the weights are volumes
+      for (double &w : cell->weight) w = -w;
+    return minDet > 0.0 || maxDet < 0.0 ? volume : 0.0;
+  } else {
+    return 0.0;
+  }
+}
+
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::setupRestCells(const Mesh &mesh,
                                                      const std::vector<std::pair<DMLabel, PetscInt>> &regionLabels) {
   PetscFunctionBeginUser;
   const PetscInt nc = mesh.cEnd - mesh.cStart;
@@ -58,35 +115,16 @@ PetscErrorCode DiscretizationT<R, C>::setupRestCells(const Mesh &mesh,
     Cell &cell = cells[c - mesh.cStart];
     PetscInt ncl, *closure = nullptr, k = 0;
     PetscCall(DMPlexGetTransitiveClosure(mesh.dm, c, PETSC_TRUE, &ncl, &closure));
-    for (PetscInt i = 0; i < ncl && k < NV; ++i) {
+    for (PetscInt i = 0; i < ncl && k < NV; ++i) {  // closure order (kernels/element_rules.hpp for hexahedra)
       const PetscInt p = closure[2 * i];
       if (p >= mesh.vStart && p < mesh.vEnd) cell.vertex[k++] = p - mesh.vStart;
     }
     PetscCall(DMPlexRestoreTransitiveClosure(mesh.dm, c, PETSC_TRUE, &ncl, &closure));
-    // Rest edge matrix in the material frame (C x C).
-    kernels::Mat<C, C> Dm;
-    bool projected = false;
-    if constexpr (C == 2) {
-      if (mesh.spaceDim == 3) {  // cloth, or a UV map: the 3D triangle in its material frame
-        const Eigen::Vector3d X0 = verts_[cell.vertex[0]].rest;
-        const Eigen::Vector3d e1 = verts_[cell.vertex[1]].rest - X0, e2 = verts_[cell.vertex[2]].rest - X0;
-        Eigen::Vector3d n = e1.cross(e2);
-        n = n.norm() > 0.0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d::UnitZ();
-        const Eigen::Matrix<double, 3, 2> E = clothFrame(n);
-        Dm.col(0) = E.transpose() * e1;
-        Dm.col(1) = E.transpose() * e2;
-        projected = true;
-      }
+    if constexpr (NV == C + 1) {
+      signedMeasure[c - mesh.cStart] = simplexRest(&cell, mesh.spaceDim);
+    } else {
+      signedMeasure[c - mesh.cStart] = hexahedronRest(&cell);
     }
-    if (!projected)
-      for (int k2 = 0; k2 < C; ++k2)
-        Dm.col(k2) = (verts_[cell.vertex[k2 + 1]].rest - verts_[cell.vertex[0]].rest).template head<C>();
-    const double det = Dm.determinant();
-    signedMeasure[c - mesh.cStart] = det / (C == 3 ? 6.0 : 2.0);
-    cell.measure = std::abs(signedMeasure[c - mesh.cStart]);
-    const kernels::Mat<C, C> B = std::abs(det) > 0.0 ? kernels::Mat<C, C>(Dm.inverse()) : kernels::Mat<C, C>::Zero();
-    cell.W.row(0) = -B.colwise().sum();
-    cell.W.template bottomRows<C>() = B;
     cell.owned = mesh.cellOwned[c - mesh.cStart];
     cell.region = 0;
     for (size_t r = 0; r < regionLabels.size(); ++r) {
@@ -105,8 +143,8 @@ PetscErrorCode DiscretizationT<R, C>::setupRestCells(const Mesh &mesh,
 
 // Degenerate or inverted rest cells: one clear error naming the (natural, 0-based gmsh-order) cell. Inverted means
 // oriented against the majority of the mesh's cells.
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::checkRestCells(const Mesh &mesh, const std::vector<double> &signedMeasure) const {
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::checkRestCells(const Mesh &mesh, const std::vector<double> &signedMeasure) const {
   PetscFunctionBeginUser;
   const double tiny = 1e-14 * std::pow(mesh.diagonal, C);
   long pos = 0, neg = 0;
@@ -120,7 +158,9 @@ PetscErrorCode DiscretizationT<R, C>::checkRestCells(const Mesh &mesh, const std
     if (std::abs(s) <= tiny) {
       std::ostringstream o;
       o << "mesh '" << mesh.filename << "': cell " << mesh.naturalCell[c] << " (0-based, gmsh element order) is "
-        << "degenerate: rest " << (C == 3 ? "volume " : "area ") << s << "; fix or remove it";
+        << "degenerate: rest " << (C == 3 ? "volume " : "area ") << s
+        << (NV == 8 ? " (det J <= 0 at some Gauss point: a folded hexahedron or vertices out of gmsh's order)" : "")
+        << "; fix or remove it";
       msg = o.str();
     } else if (s * majority < 0.0) {
       std::ostringstream o;
@@ -134,14 +174,28 @@ PetscErrorCode DiscretizationT<R, C>::checkRestCells(const Mesh &mesh, const std
   PetscFunctionReturn(0);
 }
 
-// Lumped mass: density * measure / (vertices per cell) from every owned cell, summed over the ranks sharing a vertex.
-template <int R, int C>
-PetscErrorCode DiscretizationT<R, C>::setupMass(const Mesh &mesh) {
+// The rest measure a cell gives each of its vertices for the lumped mass (and gravity): measure / NV on a simplex (row
+// sums of the consistent mass); on a hexahedron the row sums too, sum_q w_q N_v(xi_q), positive for Q1 (a
+// parallelepiped gives measure / 8).
+template <int R, int C, int NV>
+double DiscretizationT<R, C, NV>::vertexShare(const Cell &cell, int v) const {
+  if constexpr (NV == C + 1) {
+    return cell.measure / NV;
+  } else {
+    double share = 0.0;
+    for (int q = 0; q < NQ; ++q) share += cell.weight[q] * kernels::hex8::shapeValues(kernels::hex8::gaussPoint(q))[v];
+    return std::abs(share);
+  }
+}
+
+// Lumped mass: density * the vertex's share of every owned cell, summed over the ranks sharing a vertex.
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::setupMass(const Mesh &mesh) {
   PetscFunctionBeginUser;
   mass_.assign(mesh.vEnd - mesh.vStart, 0.0);
   for (const auto &cell : cells_.cells())
     if (cell.owned)
-      for (int v = 0; v < NV; ++v) mass_[cell.vertex[v]] += dyn_.density * cell.measure / NV;
+      for (int v = 0; v < NV; ++v) mass_[cell.vertex[v]] += dyn_.density * vertexShare(cell, v);
   PetscCall(sumOverSharedVertices(mesh, 1, &mass_));
   PetscFunctionReturn(0);
 }
@@ -149,5 +203,6 @@ PetscErrorCode DiscretizationT<R, C>::setupMass(const Mesh &mesh) {
 template class DiscretizationT<3, 3>;
 template class DiscretizationT<2, 2>;
 template class DiscretizationT<3, 2>;
+template class DiscretizationT<3, 3, 8>;
 
 }  // namespace aries::fem

@@ -35,6 +35,24 @@ struct StressMeasures {
   Vec<3> principalStretches = Vec<3>::Ones();
   double J = 1.0;
   double vonMises = 0.0;
+
+  // An element evaluated at several points reports the average of each measure over its points: start from zero()
+  // and add each point's measures times its share of the element's rest measure.
+  static StressMeasures zero() {
+    StressMeasures m;
+    m.principalStretches.setZero();
+    m.J = 0.0;
+    return m;
+  }
+  void accumulate(const StressMeasures &o, double w) {
+    deformationGradient += w * o.deformationGradient;
+    pk1 += w * o.pk1;
+    cauchy += w * o.cauchy;
+    greenLagrange += w * o.greenLagrange;
+    principalStretches += w * o.principalStretches;
+    J += w * o.J;
+    vonMises += w * o.vonMises;
+  }
 };
 
 template <int R, int C>

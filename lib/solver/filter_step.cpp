@@ -1,5 +1,6 @@
-// 5. HessianFilter (newton_steps.hpp, -psd_projection clamp|abs|adaptive|none, -psd_eigensystem, -psd_adaptive_tol):
-// the eigenvalue filter of the element Hessians (kernels/psd_projection.hpp). Adaptive picks clamp or abs per Newton
+// 5. HessianFilter (newton_steps.hpp, -psd_projection clamp|abs|adaptive|none, -psd_eigensystem, -psd_scope,
+// -psd_adaptive_tol): the eigenvalue filter of the element Hessians (kernels/psd_projection.hpp), per quadrature point
+// or per whole element. Adaptive picks clamp or abs per Newton
 // iteration by the trust-region ratio of the previous update (Chen et al. 2024): rho = actual / predicted decrease with
 // the true quadratic model of the update taken; clamp where the model is trustworthy (|rho - 1| < -psd_adaptive_tol:
 // fast local convergence), abs otherwise (robust far from equilibrium). The first iteration of a solve has no model
@@ -20,6 +21,7 @@ PetscErrorCode HessianFilter::beginSolve(NewtonContext &ctx) {
   }
   ctx.disc->setEigenFilter(initial);
   ctx.disc->setAnalyticEigensystem(opts_.analyticEigensystem);
+  ctx.disc->setWholeElementFilter(opts_.wholeElement);
   return 0;
 }
 

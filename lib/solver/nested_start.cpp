@@ -97,13 +97,17 @@ PetscErrorCode Simulation::setupCoarseLevels() {
   PetscCall(PetscObjectGetComm((PetscObject)disc_->dm(), &comm));
   const std::string file = opts_.coarseMeshes.front();
   const fem::Mesh &fine = disc_->mesh();
-  if (fine.shape != energies::ElementShape::Tet)
+  if (fine.shape != energies::ElementShape::Tet || fine.hexahedra)
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
-            "option -coarse_mesh: nested iteration needs tetrahedral meshes, and '%s' is a surface mesh",
-            fine.filename.c_str());
+            "option -coarse_mesh: nested iteration needs tetrahedral meshes, and '%s' is a %s mesh",
+            fine.filename.c_str(), fine.hexahedra ? "hexahedral" : "surface");
   coarse_ = std::make_unique<CoarseLevel>();
   CoarseLevel &c = *coarse_;
   PetscCall(fem::loadMesh(comm, &c.mesh, file, "-coarse_mesh"));
+  if (c.mesh.hexahedra)
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+            "option -coarse_mesh: nested iteration needs tetrahedral meshes, and '%s' is a hexahedral mesh",
+            file.c_str());
   if (c.mesh.numCellsGlobal >= fine.numCellsGlobal)
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
             "option -coarse_mesh: '%s' has %d cells, not fewer than the %d of '%s' (coarse meshes come coarsest last)",

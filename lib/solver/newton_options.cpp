@@ -21,6 +21,9 @@ PetscErrorCode readNewtonOptions(bool dynamic, const NewtonOptions *base, const 
   int eigensystem = o->filter.analyticEigensystem ? 0 : 1;  // analytic|numeric
   PetscCall(core::getChoice(opt::psdEigensystem, &eigensystem, nullptr, at));
   o->filter.analyticEigensystem = eigensystem == 0;
+  int scope = o->filter.wholeElement ? 1 : 0;  // point|element
+  PetscCall(core::getChoice(opt::psdScope, &scope, nullptr, at));
+  o->filter.wholeElement = scope == 1;
   if (o->filter.mode == EigenFilterMode::Adaptive)
     PetscCall(core::get(opt::psdAdaptiveTol, &o->filter.adaptiveTol, nullptr, at));
   PetscCall(core::get(opt::newtonSubspace, &o->subspace.size, nullptr, at));

@@ -14,10 +14,11 @@ struct ConvergenceOptions {
   double forcing = 0.0;   // inexact Newton's relative residual (0: off)
 };
 
-// HessianFilter: -psd_projection, -psd_eigensystem, -psd_adaptive_tol.
+// HessianFilter: -psd_projection, -psd_eigensystem, -psd_scope, -psd_adaptive_tol.
 struct FilterOptions {
   EigenFilterMode mode = EigenFilterMode::Clamp;
   bool analyticEigensystem = true;
+  bool wholeElement = false;  // -psd_scope element
   double adaptiveTol = 0.01;
 };
 

@@ -100,6 +100,12 @@ inline constexpr OptionDecl psdEigensystem =
                  "analytic: an energy's closed-form eigensystem where it has one (iarap, iarap_lin on tets outside "
                  "the singular band), the numeric eigensolve elsewhere; numeric: the eigensolve everywhere")
         .byDefault("analytic");
+inline constexpr OptionDecl psdScope =
+    choiceOption("-psd_scope", "point|element",
+                 "what the eigenvalue filter projects: each quadrature point's F-space Hessian (9x9 for 3x3 F; the "
+                 "closed form where it exists), or each element's whole Hessian in its vertex coordinates (numeric: "
+                 "12x12 for a tet, 24x24 for a hexahedron, 9x9 for a cloth triangle) after summing its points")
+        .byDefault("point");
 inline constexpr OptionDecl psdAdaptiveTol =
     realOption("-psd_adaptive_tol", "X", "adaptive filter: |rho - 1| below X selects clamp, else abs")
         .byDefault("0.01")
@@ -150,7 +156,7 @@ inline constexpr OptionDecl multigridMinDofs =
         .atLeast(-1);
 
 inline constexpr const OptionDecl *kNewtonOptions[] = {
-    &newtonTol,      &alphaMin,          &psdProjection,  &psdEigensystem,     &psdAdaptiveTol, &newtonSubspace,
+    &newtonTol,      &alphaMin,          &psdProjection,  &psdEigensystem,     &psdScope,     &psdAdaptiveTol, &newtonSubspace,
     &newtonSubspaceMax, &newtonRotation, &newtonForcing,  &newtonInertiaGuess, &nearNullspace, &multigridMinDofs};
 
 }  // namespace aries::solver::opt

@@ -1,26 +1,34 @@
-// The elastic energy of the cells: sum over owned cells of measure * Psi(F), F = sum_v x_v W.row(v), with the
-// material of the cell's region (energies/energy.hpp). Owns the per-cell rest data (vertices, W = [-1^T Dm^-1; Dm^-1],
-// measure, region) and anisotropy data, and the barrier mode's per-cell fallback to the mollifier.
+// The elastic energy of the cells: sum over owned cells and their quadrature points q of w_q Psi(F_q), F_q = sum_v x_v
+// W_q.row(v) (kernels/element_rules.hpp), with the material of the cell's region (energies/energy.hpp): one point for
+// linear simplices (W = [-1^T Dm^-1; Dm^-1], w = the rest measure), 2x2x2 Gauss points for trilinear hexahedra. The
+// Hessian is eigenvalue-filtered per point. Owns the per-cell rest data (vertices, W_q, w_q, measure, region) and the
+// anisotropy data (per cell: every point of a cell has its cell's fibers, target and curvature), and the barrier
+// mode's per-cell fallback to the mollifier (a cell falls back when any of its points is singular).
 #pragma once
 
 #include "fem/terms/term.hpp"
 #include "fem/vertex_layout.hpp"
+#include "kernels/element_rules.hpp"
 
+#include <algorithm>
 #include <array>
+#include <limits>
 #include <vector>
 
 namespace aries::fem {
 
-template <int R, int C>
+template <int R, int C, int NV = C + 1>  // NV: vertices per cell (C + 1: linear simplex; 8: trilinear hexahedron)
 class ElasticCells final : public Term {
  public:
-  static constexpr int NV = C + 1;   // vertices per cell
+  static constexpr int NQ = kernels::quadraturePoints(NV, C);  // quadrature points per cell
+  static_assert(NQ > 0, "no quadrature rule for this element");
   static constexpr int NDOF = NV * R;
   static constexpr int NF = R * C;   // entries of F
   struct Cell {
-    std::array<PetscInt, NV> vertex;  // local vertex index (v - vStart)
-    kernels::Mat<NV, C> W;            // F = sum_v x_v W.row(v)
-    double measure;                   // rest volume / area
+    std::array<PetscInt, NV> vertex;           // local vertex index (v - vStart), DMPlex closure order
+    std::array<kernels::Mat<NV, C>, NQ> W;     // F_q = sum_v x_v W[q].row(v)
+    std::array<double, NQ> weight;             // rest measure carried by point q (sums to measure)
+    double measure;                            // rest volume / area
     int region;                       // material index
     bool owned;                       // false for overlap cells (surface meshes), skipped by all sums
   };
@@ -46,18 +54,32 @@ class ElasticCells final : public Term {
   const energies::Material &materialOf(size_t c) const {
     return fallback_.empty() || !fallback_[c] ? materials_[cells_[c].region] : mollified_[cells_[c].region];
   }
-  kernels::Mat<R, C> deformationGradient(size_t c, const PetscScalar *x) const {
+  // F at point q of cell c.
+  kernels::Mat<R, C> deformationGradient(size_t c, int q, const PetscScalar *x) const {
     const Cell &cell = cells_[c];
     kernels::Mat<R, C> F = kernels::Mat<R, C>::Zero();
     for (int v = 0; v < NV; ++v) {
       const PetscScalar *xv = x + verts_[cell.vertex[v]].loc;
-      for (int i = 0; i < R; ++i) F.row(i) += xv[i] * cell.W.row(v);
+      for (int i = 0; i < R; ++i) F.row(i) += xv[i] * cell.W[q].row(v);
     }
     return F;
   }
+  // Psi averaged over the cell (sum_q w_q Psi(F_q) / measure).
   double energyDensity(size_t c, const PetscScalar *x) const {
-    return energies::evaluateEnergy<R, C>(materialOf(c), dataOf(c), deformationGradient(c, x), kernels::Order::Value)
-        .value;
+    auto psi = [&](int q) {
+      return energies::evaluateEnergy<R, C>(materialOf(c), dataOf(c), deformationGradient(c, q, x),
+                                            kernels::Order::Value).value;
+    };
+    if constexpr (NQ == 1) return psi(0);
+    double e = 0.0;
+    for (int q = 0; q < NQ; ++q) e += cells_[c].weight[q] * psi(q);
+    return e / cells_[c].measure;
+  }
+  // The smallest alpha over the cell's points (the safeguard's and the barrier fallback's per-cell measure).
+  double alpha(size_t c, const PetscScalar *x) const {
+    double a = std::numeric_limits<double>::infinity();
+    for (int q = 0; q < NQ; ++q) a = std::min(a, energies::elementAlpha<R, C>(deformationGradient(c, q, x)));
+    return a;
   }
   // Barrier mode at singular elements (paper Sec. 7.1): cells with alpha <= threshold are evaluated with the
   // mollifier until a later call finds them above it. Returns the number of such local cells.

@@ -6,6 +6,44 @@
 
 namespace aries::fem {
 
+namespace {
+
+// The rest area (length, for an edge) each vertex of a facet carries: area / 3 on a triangle, length / 2 on an edge;
+// on a bilinear quadrangle (a hexahedron's face, vertices in cyclic closure order) the integral of each vertex's
+// shape function over the possibly warped face, 2x2 Gauss points (exact for a parallelogram: area / 4 each).
+// Returns the facet's rest area.
+double facetVertexAreas(const std::vector<Eigen::Vector3d> &X, std::vector<double> *sharesOut) {
+  const size_t n = X.size();
+  std::vector<double> &share = *sharesOut;
+  share.assign(n, 0.0);
+  double area = 0.0;
+  if (n == 2) {
+    area = (X[1] - X[0]).norm();
+    share.assign(2, area / 2.0);
+  } else if (n == 3) {
+    area = 0.5 * (X[1] - X[0]).cross(X[2] - X[0]).norm();
+    share.assign(3, area / 3.0);
+  } else if (n == 4) {
+    const double g = 1.0 / std::sqrt(3.0), corner[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+    for (int q = 0; q < 4; ++q) {
+      const double s = corner[q][0] * g, t = corner[q][1] * g;
+      Eigen::Vector3d xs = Eigen::Vector3d::Zero(), xt = Eigen::Vector3d::Zero();
+      double N[4];
+      for (int v = 0; v < 4; ++v) {
+        N[v] = (1 + corner[v][0] * s) * (1 + corner[v][1] * t) / 4.0;
+        xs += corner[v][0] * (1 + corner[v][1] * t) / 4.0 * X[v];
+        xt += corner[v][1] * (1 + corner[v][0] * s) / 4.0 * X[v];
+      }
+      const double dA = xs.cross(xt).norm();  // Gauss weight 1
+      for (int v = 0; v < 4; ++v) share[v] += N[v] * dA;
+      area += dA;
+    }
+  }
+  return area;
+}
+
+}  // namespace
+
 template <int R>
 PetscErrorCode SurfaceLoads<R>::setup(const Mesh &mesh, const std::vector<SurfaceLoad> &loads) {
   MPI_Comm comm;
@@ -20,31 +58,26 @@ PetscErrorCode SurfaceLoads<R>::setup(const Mesh &mesh, const std::vector<Surfac
     const std::string option = (totalForce ? "-load_force_" : "-load_traction_") + load.set;
     std::vector<PetscInt> facets;
     PetscCall(ownedGroupFacets(mesh, copy, load.set, option,
-                               "a load acts on a boundary group: faces of a tet mesh, edges of a planar or cloth mesh",
+                               "a load acts on a boundary group: faces of a tet or hexahedral mesh, edges of a planar or cloth mesh",
                                &facets));
-    // The rest area and the vertices of each owned facet.
+    // The vertices of each owned facet and the rest area each of them carries (integral of its shape function).
     std::vector<std::vector<PetscInt>> facetVertices(facets.size());
-    std::vector<double> area(facets.size(), 0.0);
+    std::vector<std::vector<double>> shares(facets.size());
     double local = 0.0, total = 0.0;
     for (size_t k = 0; k < facets.size(); ++k) {
       std::vector<PetscInt> &vs = facetVertices[k];
       PetscCall(closureVertices(mesh, facets[k], &vs));
-      const Eigen::Vector3d &a = verts_[vs[0]].rest;
-      if (vs.size() == 3)
-        area[k] = 0.5 * (verts_[vs[1]].rest - a).cross(verts_[vs[2]].rest - a).norm();
-      else if (vs.size() == 2)
-        area[k] = (verts_[vs[1]].rest - a).norm();
-      local += area[k];
+      std::vector<Eigen::Vector3d> X;
+      for (PetscInt v : vs) X.push_back(verts_[v].rest);
+      local += facetVertexAreas(X, &shares[k]);
     }
     PetscCallMPI(MPI_Allreduce(&local, &total, 1, MPI_DOUBLE, MPI_SUM, comm));
     if (!(total > 0.0))
       SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: the group's rest area is zero", option.c_str());
     const Eigen::Vector3d traction = totalForce ? Eigen::Vector3d(load.value / total) : load.value;
-    for (size_t k = 0; k < facetVertices.size(); ++k) {
-      const double share = area[k] / static_cast<double>(facetVertices[k].size());
-      for (PetscInt v : facetVertices[k])
-        for (int i = 0; i < 3; ++i) force_[3 * v + i] += share * traction[i];
-    }
+    for (size_t k = 0; k < facetVertices.size(); ++k)
+      for (size_t j = 0; j < facetVertices[k].size(); ++j)
+        for (int i = 0; i < 3; ++i) force_[3 * facetVertices[k][j] + i] += shares[k][j] * traction[i];
   }
   PetscFunctionReturn(0);
 }

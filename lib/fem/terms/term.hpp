@@ -20,6 +20,7 @@ namespace aries::fem {
 struct HessianAssembly {
   energies::HessianFilter filter;
   bool blocked = true;
+  bool wholeElement = false;  // filter each element's whole Hessian instead of each point's (-psd_scope element)
 };
 
 // The K x K Gram matrix d_k^T H d_l of at most kMaxGramDirections directions, accumulated term by term.

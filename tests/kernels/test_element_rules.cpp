@@ -1,0 +1,144 @@
+// Elements at quadrature points (kernels/element_rules.hpp): the trilinear hexahedron's rest data (partition of unity,
+// F = I at rest, volume, linear fields exact) and the element energy E(x) = sum_q w_q Psi(F_q(x)) with the gradient
+// and Hessian assembled by addPointGradient / addPointHessian (the code the solver's elastic-cell term runs), checked
+// against finite differences of E in the 24 vertex coordinates: for every 3x3 energy (each in its singularity modes),
+// on a warped rest hexahedron, at deformed states whose Gauss points see random, inverted and near-singular F. The
+// linear tetrahedron (one point) is checked the same way.
+#include "kernels/element_rules.hpp"
+#include "test_support.hpp"
+
+namespace aries::test {
+namespace {
+
+using namespace aries::kernels;
+namespace hex = kernels::hex8;
+
+// A hexahedron: the unit cube in closure order (kReference mapped to [0,1]^3), every vertex moved by up to `warp`.
+Mat<8, 3> warpedHex(Rng &rng, double warp) {
+  Mat<8, 3> X;
+  for (int v = 0; v < 8; ++v)
+    for (int j = 0; j < 3; ++j) X(v, j) = 0.5 * (hex::kReference[v][j] + 1.0) + warp * rng.uniform(-1.0, 1.0);
+  return X;
+}
+
+template <int NV, int NQ>
+struct ElementRest {
+  std::array<Mat<NV, 3>, NQ> W;
+  std::array<double, NQ> weight;
+};
+
+// E, its gradient and its Hessian in the element's positions x (NV x 3, one vertex per row; the FD checker's "F").
+template <int NV, int NQ>
+Derivs<NV * 3> elementEnergy(const MaterialSetup<3> &s, const ElementRest<NV, NQ> &rest, const Mat<NV, 3> &x,
+                             Order order) {
+  Derivs<NV * 3> out;
+  for (int q = 0; q < NQ; ++q) {
+    const Mat<3, 3> F = pointDeformationGradient<3, 3, NV>(x, rest.W[q]);
+    const Derivs<9> d = energies::evaluateEnergy<3, 3>(s.m, s.cell, F, order);
+    out.value += rest.weight[q] * d.value;
+    if (wants(order, Order::Gradient))
+      addPointGradient<3, 3, NV>((rest.weight[q] * unflatten<3, 3>(d.grad)).eval(), rest.W[q], &out.grad);
+    if (wants(order, Order::Hessian)) {
+      Eigen::Matrix<double, NV * 3, NV * 3, Eigen::RowMajor> K = Eigen::Matrix<double, NV * 3, NV * 3, Eigen::RowMajor>::Zero();
+      addPointHessian<3, 3, NV>((rest.weight[q] * d.hess).eval(), rest.W[q], &K);
+      out.hess += K;
+    }
+  }
+  return out;
+}
+
+TEST(ElementRules, HexahedronRestData) {
+  Rng rng(seedOf("hex rest data"));
+  for (int trial = 0; trial < 20; ++trial) {
+    const Mat<8, 3> X = warpedHex(rng, 0.15);
+    ElementRest<8, 8> rest;
+    const double minDet = hex::restPoints(X, &rest.W, &rest.weight);
+    ASSERT_GT(minDet, 0.0);
+    double volume = 0.0;
+    for (int q = 0; q < 8; ++q) {
+      volume += rest.weight[q];
+      EXPECT_LT(rest.W[q].colwise().sum().norm(), 1e-13);                                   // sum_v dN_v/dX = 0
+      EXPECT_LT((X.transpose() * rest.W[q] - Mat<3, 3>::Identity()).norm(), 1e-13);         // F = I at rest
+      const Mat<3, 3> A = Mat<3, 3>::Identity() + 0.3 * rng.gaussMat<3, 3>();             // x = A X: F_q = A
+      EXPECT_LT((pointDeformationGradient<3, 3, 8>((X * A.transpose()).eval(), rest.W[q]) - A).norm(), 1e-13);
+      EXPECT_NEAR(hex::shapeValues(hex::gaussPoint(q)).sum(), 1.0, 1e-15);
+    }
+    // The volume of a trilinear hexahedron (2x2x2 Gauss integrates det J, a polynomial of degree 2 per direction,
+    // exactly) against the divergence theorem on its 6 bilinear faces: V = 1/3 sum_faces int x . n dA, each face
+    // integrated with 4x4 Gauss-Legendre (exact for its cubic integrand).
+    const int faces[6][4] = {{0, 1, 2, 3}, {4, 5, 6, 7}, {0, 3, 5, 4}, {1, 7, 6, 2}, {0, 4, 7, 1}, {3, 2, 6, 5}};
+    const double g4[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526};
+    const double w4[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.3478548451374538};
+    double divergence = 0.0;
+    for (const auto &f : faces)
+      for (int a = 0; a < 4; ++a)
+        for (int b = 0; b < 4; ++b) {
+          const double s = g4[a], t = g4[b];
+          const Vec<3> p0 = X.row(f[0]), p1 = X.row(f[1]), p2 = X.row(f[2]), p3 = X.row(f[3]);
+          const Vec<3> x = 0.25 * ((1 - s) * (1 - t) * p0 + (1 + s) * (1 - t) * p1 + (1 + s) * (1 + t) * p2 +
+                                   (1 - s) * (1 + t) * p3);
+          const Vec<3> xs = 0.25 * (-(1 - t) * p0 + (1 - t) * p1 + (1 + t) * p2 - (1 + t) * p3);
+          const Vec<3> xt = 0.25 * (-(1 - s) * p0 - (1 + s) * p1 + (1 + s) * p2 + (1 - s) * p3);
+          divergence += w4[a] * w4[b] * x.dot(xs.cross(xt)) / 3.0;
+        }
+    // Faces listed with inward or outward normals: the sign is fixed by the cube (volume 1 > 0).
+    EXPECT_NEAR(volume, std::abs(divergence), 1e-13) << "trial " << trial;
+  }
+}
+
+// The deformed states: x = A X per vertex plus noise, with A drawn from the F families (random, inverted,
+// near-singular), so the Gauss points see F near those families.
+template <int NV>
+std::vector<std::pair<std::string, Mat<NV, 3>>> deformedStates(const Mat<NV, 3> &X, Rng &rng) {
+  std::vector<std::pair<std::string, Mat<NV, 3>>> out;
+  auto add = [&](const std::string &name, const Mat<3, 3> &A, double noise) {
+    Mat<NV, 3> x = X * A.transpose();
+    for (int v = 0; v < NV; ++v) x.row(v) += noise * rng.gaussMat<1, 3>();
+    out.push_back({name, x});
+  };
+  add("random", randomF<3, 3>(rng), 0.05);
+  add("inverted", invertedF<3, 3>(rng), 0.03);
+  add("near_singular", fromSigma<3, 3>(nearSingularSigma<3, 3>(1.1, 0.8, 0.05), rng), 0.005);
+  return out;
+}
+
+template <int NV, int NQ>
+void checkElement(const char *element, const Mat<NV, 3> &X, const ElementRest<NV, NQ> &rest) {
+  for (const EnergyCase &ec : allEnergyCases()) {
+    if (ec.shape != ElementShape::Tet) continue;
+    Rng rng(seedOf(std::string(element) + " " + caseName(ec)));
+    const MaterialSetup<3> s = makeMaterial<3, 3>(ec.kind, ec.mode, rng);
+    for (const auto &[family, x] : deformedStates<NV>(X, rng)) {
+      auto fn = [&](const Mat<NV, 3> &y, Order order) { return elementEnergy<NV, NQ>(s, rest, y, order); };
+      FdExpect ex;
+      ex.tol = 1e-5;  // sums of 8 points' terms: a little more round-off than one point
+      expectDerivatives<NV, 3>(fn, x, std::string(element) + " " + caseName(ec) + " " + family,
+                               std::string(element) + " " + family, ex);
+    }
+  }
+}
+
+TEST(ElementRules, HexahedronEnergyMatchesFiniteDifferences) {
+  Rng rng(seedOf("hex element fd"));
+  const Mat<8, 3> X = warpedHex(rng, 0.1);
+  ElementRest<8, 8> rest;
+  ASSERT_GT(hex::restPoints(X, &rest.W, &rest.weight), 0.0);
+  checkElement<8, 8>("hex8", X, rest);
+}
+
+TEST(ElementRules, TetrahedronEnergyMatchesFiniteDifferences) {
+  Rng rng(seedOf("tet element fd"));
+  Mat<4, 3> X;
+  X << 0, 0, 0, 1, 0.1, 0, 0.2, 0.9, 0.1, 0.1, 0.2, 1.1;
+  Mat<3, 3> Dm;
+  for (int k = 0; k < 3; ++k) Dm.col(k) = (X.row(k + 1) - X.row(0)).transpose();
+  const Mat<3, 3> B = Dm.inverse();
+  ElementRest<4, 1> rest;
+  rest.W[0].row(0) = -B.colwise().sum();
+  rest.W[0].bottomRows<3>() = B;
+  rest.weight[0] = Dm.determinant() / 6.0;
+  checkElement<4, 1>("tet4", X, rest);
+}
+
+}  // namespace
+}  // namespace aries::test
