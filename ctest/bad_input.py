@@ -172,6 +172,10 @@ def case_defs():
         "$EndElements", "3 4 2 1 1 1 2 4 13\n$EndElements").replace("$Nodes\n12\n", "$Nodes\n13\n"))],
                         r"mixed\.msh' \(-dm_plex_filename\) has cells of type tetrahedron, hexahedron; aries needs one "
                         r"cell type")
+    d["quadrangles_in_tet_mesh"] = (lambda: ["-dm_plex_filename", write("quads.msh", TET_MSH.replace(
+        "$Elements\n3\n", "$Elements\n4\n").replace("$EndElements", "4 3 2 1 1 1 2 5 3\n$EndElements"))],
+                                    r"quads\.msh' line \d+: quadrangles \(element type 3\) are read as faces of "
+                                    r"hexahedra, and the file has no hexahedra")
     d["folded_hexahedron"] = (lambda: ["-dm_plex_filename", write("folded.msh", HEX_MSH.replace(
         "2 5 2 1 1 2 7 8 3 6 11 12 9", "2 5 2 1 1 2 7 3 8 6 11 12 9"))],
                               r"cell 1 .*degenerate: rest volume 0 \(det J <= 0 at some Gauss point: a folded hexahedron")

@@ -110,6 +110,7 @@ bool checkElementType(Reader &r, int type) {
 // What the parsers record: node tags (so elements can be checked against them) and the nodes' bounding box.
 struct NodeData {
   std::unordered_set<long> tags;
+  unsigned elementTypes = 0;  // bit per gmsh element type seen (types < 32)
   double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
   void addPoint(double x, double y, double z) {
     const double p[3] = {x, y, z};
@@ -122,6 +123,17 @@ struct NodeData {
     return GmshFacts{true, hi[2] - lo[2], std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]})};
   }
 };
+
+// Boundary groups match the cells: quadrangles are faces of hexahedra, triangles (as boundary faces) of tetrahedra.
+bool checkBoundaryTypes(Reader &r, const NodeData &nodes) {
+  const bool quads = nodes.elementTypes & (1u << 3), hexes = nodes.elementTypes & (1u << 5);
+  const bool triangles = nodes.elementTypes & (1u << 2);
+  if (quads && !hexes)
+    return r.fail("quadrangles (element type 3) are read as faces of hexahedra, and the file has no hexahedra");
+  if (hexes && triangles)
+    return r.fail("triangles (element type 2) in a file of hexahedra: its boundary groups must be quadrangles");
+  return true;
+}
 
 // One parser per section and format version.
 using SectionParser = bool (*)(Reader &r, NodeData *nodes);
@@ -150,6 +162,7 @@ bool elements2(Reader &r, NodeData *nodes) {
     if (v.size() < 3) return r.fail("an element line needs id, type, number of tags, tags and nodes");
     const int type = static_cast<int>(v[1]), ntags = static_cast<int>(v[2]);
     if (!checkElementType(r, type)) return false;
+    nodes->elementTypes |= 1u << type;
     const size_t expected = 3 + ntags + nodesOfType(type);
     if (v.size() != expected)
       return r.fail("element " + std::to_string((long)v[0]) + " has " + std::to_string(v.size()) +
@@ -161,7 +174,7 @@ bool elements2(Reader &r, NodeData *nodes) {
   }
   if (!r.expect("$EndElements"))
     return r.fail("$Elements declares " + std::to_string(n) + " elements but has more or fewer");
-  return true;
+  return checkBoundaryTypes(r, *nodes);
 }
 
 bool nodes4(Reader &r, NodeData *nodes) {
@@ -198,6 +211,7 @@ bool elements4(Reader &r, NodeData *nodes) {
     if (!r.numbers(&v, "$Elements") || v.size() != 4) return r.fail("expected an element block header (dim tag type count)");
     const int type = static_cast<int>(v[2]);
     if (!checkElementType(r, type)) return false;
+    nodes->elementTypes |= 1u << type;
     const long n = static_cast<long>(v[3]);
     for (long i = 0; i < n; ++i) {
       if (!r.numbers(&v, "$Elements")) return false;
@@ -209,7 +223,7 @@ bool elements4(Reader &r, NodeData *nodes) {
   }
   if (seen != total)
     return r.fail("$Elements declares " + std::to_string(total) + " elements but its blocks have " + std::to_string(seen));
-  return r.expect("$EndElements");
+  return r.expect("$EndElements") && checkBoundaryTypes(r, *nodes);
 }
 
 // Other sections ($PhysicalNames, $Entities, ...) are skipped line by line; PETSc reads them.

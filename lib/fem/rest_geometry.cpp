@@ -195,7 +195,8 @@ PetscErrorCode DiscretizationT<R, C, NV>::setupMass(const Mesh &mesh) {
   mass_.assign(mesh.vEnd - mesh.vStart, 0.0);
   for (const auto &cell : cells_.cells())
     if (cell.owned)
-      for (int v = 0; v < NV; ++v) mass_[cell.vertex[v]] += dyn_.density * vertexShare(cell, v);
+      for (int v = 0; v < NV; ++v)
+        mass_[cell.vertex[v]] += NV == C + 1 ? dyn_.density * cell.measure / NV : dyn_.density * vertexShare(cell, v);
   PetscCall(sumOverSharedVertices(mesh, 1, &mass_));
   PetscFunctionReturn(0);
 }

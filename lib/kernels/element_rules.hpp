@@ -9,8 +9,10 @@
 
 #include "kernels/types.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 namespace aries::kernels {
 

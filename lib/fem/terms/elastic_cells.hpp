@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <limits>
 #include <vector>
 
@@ -75,10 +76,16 @@ class ElasticCells final : public Term {
     for (int q = 0; q < NQ; ++q) e += cells_[c].weight[q] * psi(q);
     return e / cells_[c].measure;
   }
-  // The smallest alpha over the cell's points (the safeguard's and the barrier fallback's per-cell measure).
+  // The smallest alpha over the cell's points (the safeguard's and the barrier fallback's per-cell measure); NaN if
+  // any point's is (a non-finite state: the safeguard's test).
   double alpha(size_t c, const PetscScalar *x) const {
+    if constexpr (NQ == 1) return energies::elementAlpha<R, C>(deformationGradient(c, 0, x));
     double a = std::numeric_limits<double>::infinity();
-    for (int q = 0; q < NQ; ++q) a = std::min(a, energies::elementAlpha<R, C>(deformationGradient(c, q, x)));
+    for (int q = 0; q < NQ; ++q) {
+      const double aq = energies::elementAlpha<R, C>(deformationGradient(c, q, x));
+      if (std::isnan(aq)) return aq;
+      a = std::min(a, aq);
+    }
     return a;
   }
   // Barrier mode at singular elements (paper Sec. 7.1): cells with alpha <= threshold are evaluated with the
