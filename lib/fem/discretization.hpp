@@ -176,9 +176,8 @@ class Discretization {
   // mollifier) with 0 < alpha < the barrier's eps (collective count).
   virtual PetscErrorCode barrierActiveCells(Vec xLocal, PetscInt *count) const = 0;
 
-  PetscInt verticesPerCell() const { return cellVertices(); }
+  virtual PetscInt verticesPerCell() const = 0;  // 4 (tet), 3 (triangle), 8 (hexahedron)
   virtual int shapeCols() const = 0;
-  virtual int cellVertices() const = 0;  // 4 (tet), 3 (triangle), 8 (hexahedron)
   virtual const DiagnosticsView &diagnostics() const = 0;
   virtual const Kinematics &kinematics() const = 0;
 

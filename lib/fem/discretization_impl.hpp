@@ -59,7 +59,7 @@ class DiscretizationT final : public Discretization, public DiagnosticsView, pub
   void ownedTopology(std::vector<PetscInt> *cells) const override;
   PetscErrorCode cellFibers(std::vector<double> *fibers) const override;
   int shapeCols() const override { return C; }
-  int cellVertices() const override { return NV; }
+  PetscInt verticesPerCell() const override { return NV; }
   const DiagnosticsView &diagnostics() const override { return *this; }
   const Kinematics &kinematics() const override { return *this; }
   void forEachOwnedFreeVertex(
@@ -86,7 +86,7 @@ class DiscretizationT final : public Discretization, public DiagnosticsView, pub
   PetscErrorCode setupRestCells(const Mesh &mesh, const std::vector<std::pair<DMLabel, PetscInt>> &regionLabels);
   double simplexRest(Cell *cell, PetscInt spaceDim) const;                                       // rest_geometry
   double hexahedronRest(Cell *cell) const;                                                       // rest_geometry
-  double vertexShare(const Cell &cell, int v) const;                                             // rest_geometry
+  double hexahedronVertexShare(const Cell &cell, int v) const;                                   // rest_geometry
   PetscErrorCode checkRestCells(const Mesh &mesh, const std::vector<double> &signedMeasure) const;  // rest_geometry
   PetscErrorCode setupCellData(Mesh &mesh, const FemOptions &o, const std::vector<UniformCellData> &regionCells,
                                bool regions);                                                    // cell_data.cpp

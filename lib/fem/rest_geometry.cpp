@@ -174,21 +174,18 @@ PetscErrorCode DiscretizationT<R, C, NV>::checkRestCells(const Mesh &mesh, const
   PetscFunctionReturn(0);
 }
 
-// The rest measure a cell gives each of its vertices for the lumped mass (and gravity): measure / NV on a simplex (row
-// sums of the consistent mass); on a hexahedron the row sums too, sum_q w_q N_v(xi_q), positive for Q1 (a
-// parallelepiped gives measure / 8).
+// The rest volume a hexahedron gives each of its vertices for the lumped mass (and gravity): the row sums of its
+// consistent mass, sum_q w_q N_v(xi_q), positive for Q1 (a parallelepiped gives volume / 8).
 template <int R, int C, int NV>
-double DiscretizationT<R, C, NV>::vertexShare(const Cell &cell, int v) const {
-  if constexpr (NV == C + 1) {
-    return cell.measure / NV;
-  } else {
-    double share = 0.0;
+double DiscretizationT<R, C, NV>::hexahedronVertexShare(const Cell &cell, int v) const {
+  double share = 0.0;
+  if constexpr (NV == 8)
     for (int q = 0; q < NQ; ++q) share += cell.weight[q] * kernels::hex8::shapeValues(kernels::hex8::gaussPoint(q))[v];
-    return std::abs(share);
-  }
+  return std::abs(share);
 }
 
-// Lumped mass: density * the vertex's share of every owned cell, summed over the ranks sharing a vertex.
+// Lumped mass from every owned cell, summed over the ranks sharing a vertex: density * measure / NV on a simplex (the
+// row sums of its consistent mass), the row sums on a hexahedron (hexahedronVertexShare).
 template <int R, int C, int NV>
 PetscErrorCode DiscretizationT<R, C, NV>::setupMass(const Mesh &mesh) {
   PetscFunctionBeginUser;
@@ -196,7 +193,8 @@ PetscErrorCode DiscretizationT<R, C, NV>::setupMass(const Mesh &mesh) {
   for (const auto &cell : cells_.cells())
     if (cell.owned)
       for (int v = 0; v < NV; ++v)
-        mass_[cell.vertex[v]] += NV == C + 1 ? dyn_.density * cell.measure / NV : dyn_.density * vertexShare(cell, v);
+        mass_[cell.vertex[v]] +=
+            NV == C + 1 ? dyn_.density * cell.measure / NV : dyn_.density * hexahedronVertexShare(cell, v);
   PetscCall(sumOverSharedVertices(mesh, 1, &mass_));
   PetscFunctionReturn(0);
 }
