@@ -179,6 +179,11 @@ def case_defs():
     d["folded_hexahedron"] = (lambda: ["-dm_plex_filename", write("folded.msh", HEX_MSH.replace(
         "2 5 2 1 1 2 7 8 3 6 11 12 9", "2 5 2 1 1 2 7 3 8 6 11 12 9"))],
                               r"cell 1 .*degenerate: rest volume 0 \(det J <= 0 at some Gauss point: a folded hexahedron")
+    d["p2_on_hexahedra"] = (lambda: ["-dm_plex_filename", write("hexes.msh", HEX_MSH), "-element", "p2"],
+                            r"option -element p2: mesh '.*hexes\.msh' has hexahedra, which are trilinear by the mesh")
+    d["p2_on_hdf5"] = (lambda: ["-dm_plex_filename", converted_mesh(), "-element", "p2"],
+                       r"option -element p2: the edge nodes are numbered on the serial gmsh mesh; '.*good\.h5' is an "
+                       r"HDF5 mesh")
     d["not_gmsh"] = (lambda: ["-dm_plex_filename", write("junk.msh", "hello world\n")],
                      r"junk\.msh' line 1: not a gmsh file: it does not start with \$MeshFormat")
     d["degenerate_cell"] = (lambda: ["-dm_plex_filename", write("flat.msh", TET_MSH.replace("5 1 1 1", "5 1 1 0").replace(
@@ -300,7 +305,7 @@ def case_defs():
                                   r"trunc_coarse\.msh' line \d+: file ends inside \$Elements \(truncated\?\)")
     d["coarse_mesh_surface"] = (lambda: ["-dm_plex_filename", write("flat_tri.msh", TRI_MSH.replace("Z", "0")),
                                          "-coarse_mesh", good_mesh()],
-                                r"option -coarse_mesh: nested iteration needs tetrahedral meshes, and '.*flat_tri\.msh' "
+                                r"option -coarse_mesh: nested iteration needs linear tetrahedra, and '.*flat_tri\.msh' "
                                 r"is a surface mesh")
     return d
 

@@ -367,5 +367,6 @@ template class DiscretizationT<3, 3>;
 template class DiscretizationT<2, 2>;
 template class DiscretizationT<3, 2>;
 template class DiscretizationT<3, 3, 8>;
+template class DiscretizationT<3, 3, 10>;
 
 }  // namespace aries::fem

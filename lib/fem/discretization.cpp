@@ -18,22 +18,24 @@ double Discretization::characteristicModulus() const {
   return m > 0.0 ? m : 1.0;
 }
 
-// What hexahedral meshes do not have yet: the follower pressure (it integrates over triangle faces) and the caricature
-// field (its curvature comes from the tet mesh's boundary triangles). One line naming the option, before any work.
+// What hexahedral and quadratic meshes do not have yet: the follower pressure (it integrates over linear triangle
+// faces) and the caricature field (its curvature comes from the linear tet mesh's boundary triangles). One line naming
+// the option, before any work.
 template <int R, int C, int NV>
-PetscErrorCode DiscretizationT<R, C, NV>::refuseOnHexahedra(const Mesh &mesh, const FemOptions &o) const {
+PetscErrorCode DiscretizationT<R, C, NV>::refuseOnPointRules(const Mesh &mesh, const FemOptions &o) const {
   PetscFunctionBeginUser;
+  const char *has = NV == 8 ? "has hexahedra" : "has quadratic tetrahedra (-element p2)";
   for (const SurfaceLoad &load : o.loads)
     if (load.kind == SurfaceLoad::Kind::Pressure)
       SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
-              "option -load_pressure_%s: the follower pressure needs a tetrahedral mesh (mesh '%s' has hexahedra); use "
+              "option -load_pressure_%s: the follower pressure needs linear tetrahedra (mesh '%s' %s); use "
               "-load_traction_%s for a dead load",
-              load.set.c_str(), mesh.filename.c_str(), load.set.c_str());
+              load.set.c_str(), mesh.filename.c_str(), has, load.set.c_str());
   for (const MaterialOptions &m : o.materials)
     if (energies::energyCellField(m.material.kind) == energies::CellField::SurfaceCurvature)
       SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
-              "option -energy %s: the caricature's curvature field needs a tetrahedral mesh (mesh '%s' has hexahedra)",
-              energies::energyName(m.material.kind), mesh.filename.c_str());
+              "option -energy %s: the caricature's curvature field needs linear tetrahedra (mesh '%s' %s)",
+              energies::energyName(m.material.kind), mesh.filename.c_str(), has);
   PetscFunctionReturn(0);
 }
 
@@ -42,7 +44,7 @@ PetscErrorCode DiscretizationT<R, C, NV>::setup(Mesh &mesh, const FemOptions &o,
   PetscFunctionBeginUser;
   mesh_ = &mesh;
   dofs_ = R;
-  if constexpr (NV == 8) PetscCall(refuseOnHexahedra(mesh, o));
+  if constexpr (NV != C + 1) PetscCall(refuseOnPointRules(mesh, o));
   std::vector<UniformCellData> regionCells;
   std::vector<std::pair<DMLabel, PetscInt>> regionLabels;  // (label, value) marking each region's cells
   for (const MaterialOptions &m : o.materials) {
@@ -97,6 +99,7 @@ PetscErrorCode DiscretizationT<R, C, NV>::detachedCopy(Mesh &mesh, std::unique_p
   d->restFibers_ = restFibers_;
   d->fields_ = fields_.copy();
   d->mass_ = mass_;
+  d->gravityMass_ = gravityMass_;
   d->keepOrientation_ = keepOrientation_;
   d->terms_ = {&d->cells_};
   if (hinges_) PetscCall(d->addBendingHinges(mesh, hinges_->stiffness()));
@@ -127,7 +130,7 @@ PetscErrorCode DiscretizationT<R, C, NV>::addInertiaGravity(const Mesh &mesh) {
   PetscFunctionBeginUser;
   PetscCall(DMGetLocalSection(mesh.dm, &localSection));
   PetscCall(PetscSectionGetStorageSize(localSection, &localSize));
-  inertia_ = std::make_unique<InertiaGravity<R>>(verts_, mass_, dyn_.gravity, localSize);
+  inertia_ = std::make_unique<InertiaGravity<R>>(verts_, mass_, gravityMass_, dyn_.gravity, localSize);
   terms_.push_back(inertia_.get());
   PetscFunctionReturn(0);
 }
@@ -270,6 +273,7 @@ template class DiscretizationT<3, 3>;
 template class DiscretizationT<2, 2>;
 template class DiscretizationT<3, 2>;
 template class DiscretizationT<3, 3, 8>;
+template class DiscretizationT<3, 3, 10>;
 
 bool Discretization::suspendVolumeTerms(bool suspend) {
   bool changed = false;
@@ -299,6 +303,10 @@ PetscErrorCode Discretization::create(Mesh &mesh, const FemOptions &options, dou
     case ElementShape::Tet: {
       if (mesh.hexahedra) {
         auto d = std::make_unique<DiscretizationT<3, 3, 8>>();
+        PetscCall(d->setup(mesh, options, dt));
+        *out = std::move(d);
+      } else if (mesh.quadratic) {
+        auto d = std::make_unique<DiscretizationT<3, 3, 10>>();
         PetscCall(d->setup(mesh, options, dt));
         *out = std::move(d);
       } else {

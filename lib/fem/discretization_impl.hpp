@@ -25,7 +25,8 @@
 namespace aries::fem {
 
 
-// NV: vertices per cell (C + 1: linear simplices; 8: trilinear hexahedra, DiscretizationT<3, 3, 8>).
+// NV: nodes per cell (C + 1: linear simplices; 8: trilinear hexahedra, DiscretizationT<3, 3, 8>; 10: quadratic
+// tetrahedra, DiscretizationT<3, 3, 10>).
 template <int R, int C, int NV = C + 1>
 class DiscretizationT final : public Discretization, public DiagnosticsView, public Kinematics {
  public:
@@ -78,15 +79,16 @@ class DiscretizationT final : public Discretization, public DiagnosticsView, pub
 
  private:
   // Setup, in this order (discretization.cpp).
-  PetscErrorCode refuseOnHexahedra(const Mesh &mesh, const FemOptions &o) const;                 // discretization
+  PetscErrorCode refuseOnPointRules(const Mesh &mesh, const FemOptions &o) const;                // discretization
   PetscErrorCode markDirichlet(const Mesh &mesh, const std::vector<Eigen::Vector3d> &rest,
                                std::vector<PetscInt> *bcFlag);                                   // dof_layout.cpp
   PetscErrorCode layoutDofs(const Mesh &mesh, const std::vector<Eigen::Vector3d> &rest,
                             const std::vector<PetscInt> &bcFlag);                                // dof_layout.cpp
   PetscErrorCode setupRestCells(const Mesh &mesh, const std::vector<std::pair<DMLabel, PetscInt>> &regionLabels);
   double simplexRest(Cell *cell, PetscInt spaceDim) const;                                       // rest_geometry
-  double hexahedronRest(Cell *cell) const;                                                       // rest_geometry
-  double hexahedronVertexShare(const Cell &cell, int v) const;                                   // rest_geometry
+  double quadratureRest(Cell *cell) const;                                                       // rest_geometry
+  double lumpedShare(const Cell &cell, int v) const;                                             // rest_geometry
+  double consistentShare(const Cell &cell, int v) const;                                         // rest_geometry
   PetscErrorCode checkRestCells(const Mesh &mesh, const std::vector<double> &signedMeasure) const;  // rest_geometry
   PetscErrorCode setupCellData(Mesh &mesh, const FemOptions &o, const std::vector<UniformCellData> &regionCells,
                                bool regions);                                                    // cell_data.cpp
@@ -103,7 +105,8 @@ class DiscretizationT final : public Discretization, public DiagnosticsView, pub
   Cells cells_{verts_, materials_};
   std::vector<std::array<double, 3>> restFibers_;  // per cell, for output (material frame)
   CellFields<C> fields_;                           // the per-cell fields the materials name (cell_fields.hpp)
-  std::vector<double> mass_;                       // per local vertex
+  std::vector<double> mass_;                       // per local vertex: lumped
+  std::vector<double> gravityMass_;                // per local vertex: the consistent load's int rho N_v
   PetscBool keepOrientation_ = PETSC_FALSE;        // -keep_orientation (planar elements)
   std::unique_ptr<BendingHinges> hinges_;          // -bending (cloth)
   std::unique_ptr<ObstacleContact> contact_;       // -obstacle_plane / -obstacle_sphere (3D)

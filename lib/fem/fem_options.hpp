@@ -46,7 +46,15 @@ inline constexpr OptionDecl uvMap =
                "shape is its 3D triangle; output positions are the UV map with z = 0")
         .byDefault("false");
 
-inline constexpr const OptionDecl *kMeshOptions[] = {&meshFile, &partitioner, &meshConvert, &gmshSpaceDim, &uvMap};
+inline constexpr OptionDecl element =
+    choiceOption("-element", "p1|p2",
+                 "the element on a tetrahedral mesh: linear (p1, one point per cell) or quadratic (p2: 10 nodes with "
+                 "straight edges, a node at each edge's middle, 4 quadrature points; a gmsh mesh only). A hexahedral "
+                 "mesh has trilinear hexahedra")
+        .byDefault("p1");
+
+inline constexpr const OptionDecl *kMeshOptions[] = {&meshFile,     &partitioner, &meshConvert,
+                                                     &gmshSpaceDim, &uvMap,       &element};
 
 // ---- material ----
 inline constexpr OptionDecl energy =

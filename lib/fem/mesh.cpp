@@ -139,14 +139,16 @@ PetscErrorCode classifyCells(DM dm, Mesh *mesh) {
 }
 
 // Natural ids of the local cells and vertices: `loaded` holds one per point of the chart of the mesh as read (cell id,
-// vertex id, or -1), and the migration SF (leaf: a point of the distributed mesh, root: the point it came from; none on
-// one rank) carries them to the distributed mesh. Cells that are leaves of the point SF belong to another rank
+// vertex id, edge id for a quadratic mesh, or -1), and the migration SF (leaf: a point of the distributed mesh, root:
+// the point it came from; none on one rank) carries them to the distributed mesh (pointNatural: per local point). Cells that are leaves of the point SF belong to another rank
 // (overlap layer).
-PetscErrorCode numberNaturally(PetscSF migration, const std::vector<PetscInt> &loaded, Mesh *mesh) {
+PetscErrorCode numberNaturally(PetscSF migration, const std::vector<PetscInt> &loaded, Mesh *mesh,
+                               std::vector<PetscInt> *pointNatural) {
   PetscInt pStart, pEnd;
   PetscFunctionBeginUser;
   PetscCall(DMPlexGetChart(mesh->dm, &pStart, &pEnd));
-  std::vector<PetscInt> natural(pEnd - pStart, -1);
+  std::vector<PetscInt> &natural = *pointNatural;
+  natural.assign(pEnd - pStart, -1);
   if (migration) {
     PetscCall(PetscSFBcastBegin(migration, MPIU_INT, loaded.data(), natural.data(), MPI_REPLACE));
     PetscCall(PetscSFBcastEnd(migration, MPIU_INT, loaded.data(), natural.data(), MPI_REPLACE));
@@ -275,6 +277,12 @@ PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh, const std::string &file, cons
   std::vector<PetscInt> loadedNatural;  // per point of the loaded mesh's chart
   if (hdf5) PetscCall(readHdf5Mesh(comm, mesh, &loaded, &loadedNatural));
   else PetscCall(readGmshMesh(comm, mesh, &loaded, &loadedNatural));
+  PetscInt numEdgesGlobal = 0;
+  {
+    PetscErrorCode ierr = chooseElement(comm, loaded, hdf5, mesh, &loadedNatural, &numEdgesGlobal);
+    if (ierr) PetscCall(DMDestroy(&loaded));
+    PetscCall(ierr);
+  }
 
   PetscSF migration = nullptr;
   if (size > 1) {
@@ -296,7 +304,9 @@ PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh, const std::string &file, cons
   PetscCall(DMPlexGetHeightStratum(mesh->dm, 0, &mesh->cStart, &mesh->cEnd));
   PetscCall(DMPlexGetDepthStratum(mesh->dm, 0, &mesh->vStart, &mesh->vEnd));
 
-  PetscCall(numberNaturally(migration, loadedNatural, mesh));  // destroys the migration SF
+  std::vector<PetscInt> pointNatural;
+  PetscCall(numberNaturally(migration, loadedNatural, mesh, &pointNatural));  // destroys the migration SF
+  if (mesh->quadratic) PetscCall(refineToQuadratic(mesh, pointNatural, numEdgesGlobal));
 
   // PETSc's mesh viewer (-dm_view[ :file:format], e.g. -dm_view ::ascii_info_detail or -dm_view hdf5:mesh.h5) on the
   // distributed mesh.

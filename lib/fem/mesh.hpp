@@ -13,7 +13,9 @@
 
 #include <petscdmplex.h>
 
+#include <array>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -25,13 +27,28 @@ struct Mesh {
   std::string fileOption = "-dm_plex_filename";  // the option that named the file (error messages)
   energies::ElementShape shape = energies::ElementShape::Tet;  // the shape of F: 3x3 for tetrahedra and hexahedra
   bool hexahedra = false;  // trilinear hexahedra (Q1, 2x2x2 Gauss points) instead of linear tetrahedra
+  // -element p2: quadratic tetrahedra (10 nodes). `dm` is then the mesh as read refined once (PETSc's regular
+  // refinement, every tet into 8), so that its vertices are the P2 nodes: the corners, and one at the middle of each
+  // edge of the mesh as read (natural id: the vertices' count + the edge's number in the serial mesh). Vertex-based
+  // code (the section, Dirichlet sets and boxes, output, random starts) works on them unchanged; the elements are the
+  // cells as read (mesh_quadratic.cpp).
+  bool quadratic = false;
+  std::vector<std::array<PetscInt, 10>> elementNodes;  // per element: local vertices, kernels::tet10's node order
+  std::vector<PetscInt> elementCell;  // per element: one of its 8 cells in dm (its labels: the region)
+  std::vector<char> edgeNode;         // per local vertex: 1 for a node at an edge's middle
+  // The matrix couples every two nodes of an element, which no cell of dm holds together (a corner and the opposite
+  // corner): per local vertex, the DM points of the nodes of its elements, dm's adjacency (DMPlexSetAdjacencyUser) for
+  // the Hessian's preallocation. Shared by copies of the mesh (and by DM clones, which share the adjacency).
+  std::shared_ptr<const std::vector<std::vector<PetscInt>>> nodeAdjacency;
   bool uvMap = false;  // -uv_map: planar elements (2D unknowns) on a 3D surface, rest = each 3D triangle
   PetscInt topoDim = 3, spaceDim = 3;
   PetscInt cStart = 0, cEnd = 0, vStart = 0, vEnd = 0;
-  std::vector<PetscInt> naturalCell;    // per local cell (c - cStart)
-  std::vector<char> cellOwned;          // per local cell: 0 for overlap cells (surface meshes carry one layer)
+  // Per local cell (c - cStart), or per element of a quadratic mesh:
+  std::vector<PetscInt> naturalCell;
+  std::vector<char> cellOwned;          // 0 for overlap cells (surface meshes carry one layer)
   std::vector<PetscInt> naturalVertex;  // per local vertex (v - vStart)
-  PetscInt numCellsGlobal = 0, numVerticesGlobal = 0;
+  PetscInt numCellsGlobal = 0, numVerticesGlobal = 0;  // elements and nodes for a quadratic mesh
+  PetscInt numCells() const { return static_cast<PetscInt>(naturalCell.size()); }  // local cells (elements)
   struct PhysicalGroup {
     PetscInt dim, tag;
   };

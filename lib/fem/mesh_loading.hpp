@@ -28,4 +28,13 @@ PetscErrorCode readHdf5Mesh(MPI_Comm comm, Mesh *mesh, DM *dm, std::vector<Petsc
 PetscErrorCode setMetisPartition(DM dm, PetscPartitioner part);
 PetscErrorCode setRcbPartition(DM dm, PetscPartitioner part);
 
+// -element: p2 sets mesh->quadratic (a gmsh tetrahedral mesh only: a one-line error otherwise) and numbers the edges
+// of the serial mesh `loaded` (on rank 0) after its vertices in `natural`; numEdgesGlobal is their count. Collective.
+PetscErrorCode chooseElement(MPI_Comm comm, DM loaded, bool hdf5, Mesh *mesh, std::vector<PetscInt> *natural,
+                             PetscInt *numEdgesGlobal);
+// The distributed tetrahedral mesh refined once into the quadratic mesh's DM (fem/mesh.hpp: quadratic): its vertices
+// are the P2 nodes with natural ids, its elements the cells as read. pointNatural: the natural id of every point of
+// mesh->dm (cells, vertices and edges). Collective.
+PetscErrorCode refineToQuadratic(Mesh *mesh, const std::vector<PetscInt> &pointNatural, PetscInt numEdgesGlobal);
+
 }  // namespace aries::fem::loading

@@ -79,16 +79,18 @@ double DiscretizationT<R, C, NV>::simplexRest(Cell *cellp, PetscInt spaceDim) co
   return signedMeasure;
 }
 
-// A trilinear hexahedron: W and det J at its 2x2x2 Gauss points (kernels/element_rules.hpp). Returns its signed
-// rest volume for the rest-cell check when det J has one sign at every point (negative: an inverted cell), and 0 when
-// the signs differ (a folded cell or vertices out of order, which no reordering of the whole mesh fixes: reported as
-// degenerate).
+// An element with a point rule (kernels/element_rules.hpp): W and det J at the 2x2x2 Gauss points of a trilinear
+// hexahedron or the 4 points of a quadratic tetrahedron. Returns its signed rest volume for the rest-cell check when
+// det J has one sign at every point (negative: an inverted cell), and 0 when the signs differ (a folded cell or
+// vertices out of order, which no reordering of the whole mesh fixes: reported as degenerate).
 template <int R, int C, int NV>
-double DiscretizationT<R, C, NV>::hexahedronRest(Cell *cell) const {
-  if constexpr (R == 3 && C == 3 && NV == 8) {
-    kernels::Mat<8, 3> X;
-    for (int v = 0; v < 8; ++v) X.row(v) = verts_[cell->vertex[v]].rest.transpose();
-    const double minDet = kernels::hex8::restPoints(X, &cell->W, &cell->weight);
+double DiscretizationT<R, C, NV>::quadratureRest(Cell *cell) const {
+  if constexpr (R == 3 && C == 3 && (NV == 8 || NV == 10)) {
+    kernels::Mat<NV, 3> X;
+    for (int v = 0; v < NV; ++v) X.row(v) = verts_[cell->vertex[v]].rest.transpose();
+    double minDet;
+    if constexpr (NV == 8) minDet = kernels::hex8::restPoints(X, &cell->W, &cell->weight);
+    else minDet = kernels::tet10::restPoints(X, &cell->W, &cell->weight);
     double volume = 0.0, maxDet = -std::numeric_limits<double>::infinity();
     for (double w : cell->weight) {
       volume += w;
@@ -107,29 +109,35 @@ template <int R, int C, int NV>
 PetscErrorCode DiscretizationT<R, C, NV>::setupRestCells(const Mesh &mesh,
                                                      const std::vector<std::pair<DMLabel, PetscInt>> &regionLabels) {
   PetscFunctionBeginUser;
-  const PetscInt nc = mesh.cEnd - mesh.cStart;
+  const PetscInt nc = mesh.numCells();
   std::vector<Cell> &cells = cells_.cells();
   cells.resize(nc);
   std::vector<double> signedMeasure(nc);
-  for (PetscInt c = mesh.cStart; c < mesh.cEnd; ++c) {
-    Cell &cell = cells[c - mesh.cStart];
-    PetscInt ncl, *closure = nullptr, k = 0;
-    PetscCall(DMPlexGetTransitiveClosure(mesh.dm, c, PETSC_TRUE, &ncl, &closure));
-    for (PetscInt i = 0; i < ncl && k < NV; ++i) {  // closure order (kernels/element_rules.hpp for hexahedra)
-      const PetscInt p = closure[2 * i];
-      if (p >= mesh.vStart && p < mesh.vEnd) cell.vertex[k++] = p - mesh.vStart;
-    }
-    PetscCall(DMPlexRestoreTransitiveClosure(mesh.dm, c, PETSC_TRUE, &ncl, &closure));
-    if constexpr (NV == C + 1) {
-      signedMeasure[c - mesh.cStart] = simplexRest(&cell, mesh.spaceDim);
+  for (PetscInt k = 0; k < nc; ++k) {
+    Cell &cell = cells[k];
+    PetscInt point = mesh.cStart + k;  // the DM cell whose labels give the region
+    if (mesh.quadratic) {  // the element's nodes, kernels::tet10's order (fem/mesh_quadratic.cpp)
+      std::copy(mesh.elementNodes[k].begin(), mesh.elementNodes[k].end(), cell.vertex.begin());
+      point = mesh.elementCell[k];
     } else {
-      signedMeasure[c - mesh.cStart] = hexahedronRest(&cell);
+      PetscInt ncl, *closure = nullptr, n = 0;
+      PetscCall(DMPlexGetTransitiveClosure(mesh.dm, point, PETSC_TRUE, &ncl, &closure));
+      for (PetscInt i = 0; i < ncl && n < NV; ++i) {  // closure order (kernels/element_rules.hpp for hexahedra)
+        const PetscInt p = closure[2 * i];
+        if (p >= mesh.vStart && p < mesh.vEnd) cell.vertex[n++] = p - mesh.vStart;
+      }
+      PetscCall(DMPlexRestoreTransitiveClosure(mesh.dm, point, PETSC_TRUE, &ncl, &closure));
     }
-    cell.owned = mesh.cellOwned[c - mesh.cStart];
+    if constexpr (NV == C + 1) {
+      signedMeasure[k] = simplexRest(&cell, mesh.spaceDim);
+    } else {
+      signedMeasure[k] = quadratureRest(&cell);
+    }
+    cell.owned = mesh.cellOwned[k];
     cell.region = 0;
     for (size_t r = 0; r < regionLabels.size(); ++r) {
       PetscInt val;
-      PetscCall(DMLabelGetValue(regionLabels[r].first, c, &val));
+      PetscCall(DMLabelGetValue(regionLabels[r].first, point, &val));
       if (val == regionLabels[r].second) cell.region = static_cast<int>(r + 1);
     }
   }
@@ -174,28 +182,48 @@ PetscErrorCode DiscretizationT<R, C, NV>::checkRestCells(const Mesh &mesh, const
   PetscFunctionReturn(0);
 }
 
-// The rest volume a hexahedron gives each of its vertices for the lumped mass (and gravity): the row sums of its
-// consistent mass, sum_q w_q N_v(xi_q), positive for Q1 (a parallelepiped gives volume / 8).
+// The rest volume an element gives node v for gravity, the consistent load int N_v: the row sums of its consistent
+// mass, sum_q w_q N_v(xi_q) (exact: the point rules integrate N_v); measure / NV on a simplex, measure / 8 on a
+// parallelepiped, -measure / 20 at a quadratic tetrahedron's corner and measure / 5 at its edge nodes.
 template <int R, int C, int NV>
-double DiscretizationT<R, C, NV>::hexahedronVertexShare(const Cell &cell, int v) const {
+double DiscretizationT<R, C, NV>::consistentShare(const Cell &cell, int v) const {
   double share = 0.0;
   if constexpr (NV == 8)
     for (int q = 0; q < NQ; ++q) share += cell.weight[q] * kernels::hex8::shapeValues(kernels::hex8::gaussPoint(q))[v];
-  return std::abs(share);
+  else if constexpr (NV == 10)
+    share = cell.measure * kernels::tet10::consistentShare(v);
+  return share;
 }
 
-// Lumped mass from every owned cell, summed over the ranks sharing a vertex: density * measure / NV on a simplex (the
-// row sums of its consistent mass), the row sums on a hexahedron (hexahedronVertexShare).
+// ... and for the lumped mass: the row sums where they are positive (Q1), HRZ for the quadratic tetrahedron (its
+// corners' row sums are negative; kernels::tet10::lumpedShare).
+template <int R, int C, int NV>
+double DiscretizationT<R, C, NV>::lumpedShare(const Cell &cell, int v) const {
+  if constexpr (NV == 10) return cell.measure * kernels::tet10::lumpedShare(v);
+  return std::abs(consistentShare(cell, v));
+}
+
+// Lumped mass and gravity's consistent mass from every owned cell, summed over the ranks sharing a vertex: both are
+// density * measure / NV on a simplex (the row sums of its consistent mass); lumpedShare and consistentShare on
+// elements with a point rule.
 template <int R, int C, int NV>
 PetscErrorCode DiscretizationT<R, C, NV>::setupMass(const Mesh &mesh) {
   PetscFunctionBeginUser;
   mass_.assign(mesh.vEnd - mesh.vStart, 0.0);
+  gravityMass_.assign(mesh.vEnd - mesh.vStart, 0.0);
   for (const auto &cell : cells_.cells())
     if (cell.owned)
-      for (int v = 0; v < NV; ++v)
-        mass_[cell.vertex[v]] +=
-            NV == C + 1 ? dyn_.density * cell.measure / NV : dyn_.density * hexahedronVertexShare(cell, v);
+      for (int v = 0; v < NV; ++v) {
+        if constexpr (NV == C + 1) {
+          mass_[cell.vertex[v]] += dyn_.density * cell.measure / NV;
+        } else {
+          mass_[cell.vertex[v]] += dyn_.density * lumpedShare(cell, v);
+          gravityMass_[cell.vertex[v]] += dyn_.density * consistentShare(cell, v);
+        }
+      }
   PetscCall(sumOverSharedVertices(mesh, 1, &mass_));
+  if constexpr (NV == C + 1) gravityMass_ = mass_;
+  else PetscCall(sumOverSharedVertices(mesh, 1, &gravityMass_));
   PetscFunctionReturn(0);
 }
 
@@ -203,5 +231,6 @@ template class DiscretizationT<3, 3>;
 template class DiscretizationT<2, 2>;
 template class DiscretizationT<3, 2>;
 template class DiscretizationT<3, 3, 8>;
+template class DiscretizationT<3, 3, 10>;
 
 }  // namespace aries::fem

@@ -39,7 +39,7 @@ PetscErrorCode TargetField::read(const Mesh &mesh, int dim, bool uniformTargetGi
     source_ = Source::Activation;
   } else if (hasFile) {
     PetscCall(readTargetKeyframeFile(comm, file, mesh.fileCellCount(), mesh.fileCells(), comps_, &times_, &local_));
-    ncells_ = static_cast<size_t>(mesh.cEnd - mesh.cStart);
+    ncells_ = static_cast<size_t>(mesh.numCells());
     source_ = Source::Keyframes;
   }
   PetscFunctionReturn(0);

@@ -131,7 +131,10 @@ PetscErrorCode XdmfWriter::endStep() {
 
 PetscErrorCode XdmfWriter::writeXmf() {
   PetscFunctionBeginUser;
-  const char *topo = verticesPerCell_ == 8 ? "Hexahedron" : verticesPerCell_ == 4 ? "Tetrahedron" : "Triangle";
+  const char *topo = verticesPerCell_ == 10 ? "Tetrahedron_10"
+                     : verticesPerCell_ == 8 ? "Hexahedron"
+                     : verticesPerCell_ == 4 ? "Tetrahedron"
+                                             : "Triangle";
   std::ostringstream x;
   x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n"
     << "<Grid Name=\"aries\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";

@@ -16,10 +16,13 @@
 
 namespace aries::kernels {
 
-// The number of quadrature points of an element with NV vertices and C reference dimensions: 1 for simplices
+// The number of quadrature points of an element with NV nodes and C reference dimensions: 1 for simplices
 // (F is constant on a linear simplex), 8 for the trilinear hexahedron (2x2x2 Gauss: exact for the trilinear mass and
-// for the stiffness of a parallelepiped, the standard full integration of Q1).
-constexpr int quadraturePoints(int NV, int C) { return NV == C + 1 ? 1 : (C == 3 && NV == 8) ? 8 : -1; }
+// for the stiffness of a parallelepiped, the standard full integration of Q1), 4 for the quadratic tetrahedron (tet10
+// below).
+constexpr int quadraturePoints(int NV, int C) {
+  return NV == C + 1 ? 1 : (C == 3 && NV == 8) ? 8 : (C == 3 && NV == 10) ? 4 : -1;
+}
 
 // Adds the point's gradient w P (P = dPsi/dF, R x C) to the element gradient g (NV R): g_(v,i) += w sum_j P_ij W_vj.
 template <int R, int C, int NV>
@@ -109,5 +112,74 @@ inline double restPoints(const Mat<kVertices, 3> &X, std::array<Mat<kVertices, 3
 }
 
 }  // namespace hex8
+
+// The quadratic tetrahedron (P2, 10 nodes, straight edges) on the reference tet (0,0,0), (1,0,0), (0,1,0), (0,0,1):
+// barycentrics L0 = 1 - xi1 - xi2 - xi3, Lk = xi_k; corner k has N = Lk (2 Lk - 1), the node at the middle of edge
+// (a, b) has N = 4 La Lb. Nodes 0-3 are the corners, 4-9 the edges kEdges (VTK's and gmsh's order, so the node order
+// is also the XDMF Tetrahedron_10 order). F is linear in the element, so Psi(F) is no polynomial and no rule
+// integrates it exactly; the 4-point rule (degree 2, positive weights) integrates the linearized stiffness grad N^T C
+// grad N (degree 2) and the consistent load of a constant body force exactly, which is what the element's optimal
+// convergence needs, and 4 points x 6 strains = 24 = 30 dofs - 6 rigid motions leaves no spurious zero-energy mode.
+// The 5-point degree-3 and 11-point degree-4 rules have a negative weight, which would break the per-point PSD
+// filter's guarantee that the element Hessian is PSD.
+namespace tet10 {
+
+constexpr int kNodes = 10;
+constexpr int kPoints = 4;
+constexpr int kEdges[6][2] = {{0, 1}, {1, 2}, {0, 2}, {0, 3}, {1, 3}, {2, 3}};  // node 4 + k sits on kEdges[k]
+
+// Barycentric coordinates of point q: (5 + 3 sqrt 5) / 20 at corner q, (5 - sqrt 5) / 20 at the others; weight 1/24
+// each (the reference volume is 1/6).
+inline Vec<4> pointBarycentrics(int q) {
+  const double a = (5.0 - std::sqrt(5.0)) / 20.0, b = 1.0 - 3.0 * a;
+  Vec<4> L = Vec<4>::Constant(a);
+  L[q] = b;
+  return L;
+}
+constexpr double kPointWeight = 1.0 / 24.0;
+
+inline Vec<kNodes> shapeValues(const Vec<4> &L) {
+  Vec<kNodes> N;
+  for (int k = 0; k < 4; ++k) N[k] = L[k] * (2.0 * L[k] - 1.0);
+  for (int e = 0; e < 6; ++e) N[4 + e] = 4.0 * L[kEdges[e][0]] * L[kEdges[e][1]];
+  return N;
+}
+
+// dN/dxi (10 x 3) at barycentrics L: dL0/dxi = (-1, -1, -1), dLk/dxi = e_k.
+inline Mat<kNodes, 3> shapeGradients(const Vec<4> &L) {
+  Mat<4, 3> dL;
+  dL << -1, -1, -1, 1, 0, 0, 0, 1, 0, 0, 0, 1;
+  Mat<kNodes, 3> G;
+  for (int k = 0; k < 4; ++k) G.row(k) = (4.0 * L[k] - 1.0) * dL.row(k);
+  for (int e = 0; e < 6; ++e) {
+    const int a = kEdges[e][0], b = kEdges[e][1];
+    G.row(4 + e) = 4.0 * (L[a] * dL.row(b) + L[b] * dL.row(a));
+  }
+  return G;
+}
+
+// Rest data of one quadratic tetrahedron with rest node positions X (10 x 3, node order above): W_q = dN/dxi J^-1 and
+// w_q = det J / 24 at each point, as hex8::restPoints. Returns the smallest det J (constant for straight edges).
+inline double restPoints(const Mat<kNodes, 3> &X, std::array<Mat<kNodes, 3>, kPoints> *W,
+                         std::array<double, kPoints> *weight) {
+  double minDet = std::numeric_limits<double>::infinity();
+  for (int q = 0; q < kPoints; ++q) {
+    const Mat<kNodes, 3> G = shapeGradients(pointBarycentrics(q));
+    const Mat<3, 3> J = X.transpose() * G;
+    const double det = J.determinant();
+    minDet = std::min(minDet, det);
+    (*weight)[q] = det * kPointWeight;
+    (*W)[q] = det != 0.0 ? Mat<kNodes, 3>(G * J.inverse()) : Mat<kNodes, 3>::Zero();
+  }
+  return minDet;
+}
+
+// The lumped mass of a straight-edged P2 tet of volume V (HRZ: the consistent mass's diagonal, int N_i^2 = V/70 at a
+// corner and 8V/105 at an edge node, scaled to the total): V/36 per corner, 4V/27 per edge node, all positive (the
+// row sums, int N_i = -V/20 at a corner, are not). Gravity uses the consistent load int N_i instead (consistentShare).
+inline double lumpedShare(int node) { return node < 4 ? 1.0 / 36.0 : 4.0 / 27.0; }
+inline double consistentShare(int node) { return node < 4 ? -1.0 / 20.0 : 1.0 / 5.0; }
+
+}  // namespace tet10
 
 }  // namespace aries::kernels

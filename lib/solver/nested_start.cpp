@@ -97,10 +97,11 @@ PetscErrorCode Simulation::setupCoarseLevels() {
   PetscCall(PetscObjectGetComm((PetscObject)disc_->dm(), &comm));
   const std::string file = opts_.coarseMeshes.front();
   const fem::Mesh &fine = disc_->mesh();
-  if (fine.shape != energies::ElementShape::Tet || fine.hexahedra)
+  if (fine.shape != energies::ElementShape::Tet || fine.hexahedra || fine.quadratic)
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
-            "option -coarse_mesh: nested iteration needs tetrahedral meshes, and '%s' is a %s mesh",
-            fine.filename.c_str(), fine.hexahedra ? "hexahedral" : "surface");
+            "option -coarse_mesh: nested iteration needs linear tetrahedra, and '%s' is a %s mesh",
+            fine.filename.c_str(),
+            fine.hexahedra ? "hexahedral" : fine.quadratic ? "quadratic (-element p2)" : "surface");
   coarse_ = std::make_unique<CoarseLevel>();
   CoarseLevel &c = *coarse_;
   PetscCall(fem::loadMesh(comm, &c.mesh, file, "-coarse_mesh"));

@@ -103,8 +103,8 @@ inline constexpr OptionDecl psdEigensystem =
 inline constexpr OptionDecl psdScope =
     choiceOption("-psd_scope", "point|element",
                  "what the eigenvalue filter projects: each quadrature point's F-space Hessian (9x9 for 3x3 F; the "
-                 "closed form where it exists), or each element's whole Hessian in its vertex coordinates (numeric: "
-                 "12x12 for a tet, 24x24 for a hexahedron, 9x9 for a cloth triangle) after summing its points")
+                 "closed form where it exists), or each element's whole Hessian in its node coordinates after summing "
+                 "its points (numeric: 12x12 for a tet, 24x24 hexahedron, 30x30 P2 tet, 9x9 cloth triangle)")
         .byDefault("point");
 inline constexpr OptionDecl psdAdaptiveTol =
     realOption("-psd_adaptive_tol", "X", "adaptive filter: |rho - 1| below X selects clamp, else abs")

@@ -3,7 +3,8 @@
 // and Hessian assembled by addPointGradient / addPointHessian (the code the solver's elastic-cell term runs), checked
 // against finite differences of E in the 24 vertex coordinates: for every 3x3 energy (each in its singularity modes),
 // on a warped rest hexahedron, at deformed states whose Gauss points see random, inverted and near-singular F. The
-// linear tetrahedron (one point) is checked the same way.
+// linear tetrahedron (one point) and the quadratic tetrahedron (tet10, 4 points; its rest data too) are checked the
+// same way.
 #include "kernels/element_rules.hpp"
 #include "test_support.hpp"
 
@@ -12,6 +13,18 @@ namespace {
 
 using namespace aries::kernels;
 namespace hex = kernels::hex8;
+namespace p2 = kernels::tet10;
+
+// A quadratic tetrahedron with straight edges: corners near the unit tet, edge nodes at the edges' midpoints.
+Mat<10, 3> straightTet10(Rng &rng, double warp) {
+  Mat<10, 3> X = Mat<10, 3>::Zero();
+  X.row(1) << 1, 0, 0;
+  X.row(2) << 0, 1, 0;
+  X.row(3) << 0, 0, 1;
+  for (int k = 0; k < 4; ++k) X.row(k) += warp * rng.gaussMat<1, 3>();
+  for (int e = 0; e < 6; ++e) X.row(4 + e) = 0.5 * (X.row(p2::kEdges[e][0]) + X.row(p2::kEdges[e][1]));
+  return X;
+}
 
 // A hexahedron: the unit cube in closure order (kReference mapped to [0,1]^3), every vertex moved by up to `warp`.
 Mat<8, 3> warpedHex(Rng &rng, double warp) {
@@ -86,6 +99,47 @@ TEST(ElementRules, HexahedronRestData) {
   }
 }
 
+TEST(ElementRules, QuadraticTetrahedronRestData) {
+  Rng rng(seedOf("tet10 rest data"));
+  for (int trial = 0; trial < 20; ++trial) {
+    const Mat<10, 3> X = straightTet10(rng, 0.15);
+    ElementRest<10, 4> rest;
+    const double minDet = p2::restPoints(X, &rest.W, &rest.weight);
+    ASSERT_GT(minDet, 0.0);
+    Mat<3, 3> Dm;
+    for (int k = 0; k < 3; ++k) Dm.col(k) = (X.row(k + 1) - X.row(0)).transpose();
+    const double volume = Dm.determinant() / 6.0;
+    // A quadratic field x = A X + (b . X) X is reproduced exactly: F_q = A + (b . X_q) I + X_q b^T.
+    const Mat<3, 3> A = Mat<3, 3>::Identity() + 0.3 * rng.gaussMat<3, 3>();
+    const Vec<3> b = 0.2 * rng.gaussMat<3, 1>();
+    Mat<10, 3> x;
+    for (int v = 0; v < 10; ++v) x.row(v) = (A * X.row(v).transpose() + b.dot(X.row(v)) * X.row(v).transpose()).transpose();
+    double sum = 0.0;
+    Vec<10> consistent = Vec<10>::Zero();
+    for (int q = 0; q < 4; ++q) {
+      sum += rest.weight[q];
+      const Vec<10> N = p2::shapeValues(p2::pointBarycentrics(q));
+      EXPECT_NEAR(N.sum(), 1.0, 1e-14);
+      consistent += rest.weight[q] * N;
+      EXPECT_LT(rest.W[q].colwise().sum().norm(), 1e-12);                            // sum_v dN_v/dX = 0
+      EXPECT_LT((X.transpose() * rest.W[q] - Mat<3, 3>::Identity()).norm(), 1e-12);  // F = I at rest
+      const Vec<3> Xq = X.transpose() * N;
+      const Mat<3, 3> exact = A + b.dot(Xq) * Mat<3, 3>::Identity() + Xq * b.transpose();
+      EXPECT_LT((pointDeformationGradient<3, 3, 10>(x, rest.W[q]) - exact).norm(), 1e-12) << "trial " << trial;
+    }
+    EXPECT_NEAR(sum, volume, 1e-14);
+    // The 4-point rule integrates N_i (degree 2) exactly: -V/20 at a corner, V/5 at an edge node; the lumped shares
+    // (HRZ) are positive and sum to 1.
+    double lumped = 0.0;
+    for (int v = 0; v < 10; ++v) {
+      EXPECT_NEAR(consistent[v], volume * p2::consistentShare(v), 1e-14);
+      EXPECT_GT(p2::lumpedShare(v), 0.0);
+      lumped += p2::lumpedShare(v);
+    }
+    EXPECT_NEAR(lumped, 1.0, 1e-15);
+  }
+}
+
 // The deformed states: x = A X per vertex plus noise, with A drawn from the F families (random, inverted,
 // near-singular), so the Gauss points see F near those families.
 template <int NV>
@@ -111,7 +165,7 @@ void checkElement(const char *element, const Mat<NV, 3> &X, const ElementRest<NV
     for (const auto &[family, x] : deformedStates<NV>(X, rng)) {
       auto fn = [&](const Mat<NV, 3> &y, Order order) { return elementEnergy<NV, NQ>(s, rest, y, order); };
       FdExpect ex;
-      ex.tol = 1e-5;  // sums of 8 points' terms: a little more round-off than one point
+      ex.tol = 1e-5;  // sums of 4 or 8 points' terms: a little more round-off than one point
       expectDerivatives<NV, 3>(fn, x, std::string(element) + " " + caseName(ec) + " " + family,
                                std::string(element) + " " + family, ex);
     }
@@ -124,6 +178,14 @@ TEST(ElementRules, HexahedronEnergyMatchesFiniteDifferences) {
   ElementRest<8, 8> rest;
   ASSERT_GT(hex::restPoints(X, &rest.W, &rest.weight), 0.0);
   checkElement<8, 8>("hex8", X, rest);
+}
+
+TEST(ElementRules, QuadraticTetrahedronEnergyMatchesFiniteDifferences) {
+  Rng rng(seedOf("tet10 element fd"));
+  const Mat<10, 3> X = straightTet10(rng, 0.1);
+  ElementRest<10, 4> rest;
+  ASSERT_GT(p2::restPoints(X, &rest.W, &rest.weight), 0.0);
+  checkElement<10, 4>("tet10", X, rest);
 }
 
 TEST(ElementRules, TetrahedronEnergyMatchesFiniteDifferences) {

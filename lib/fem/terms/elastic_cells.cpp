@@ -110,5 +110,6 @@ template class ElasticCells<3, 3>;
 template class ElasticCells<2, 2>;
 template class ElasticCells<3, 2>;
 template class ElasticCells<3, 3, 8>;
+template class ElasticCells<3, 3, 10>;
 
 }  // namespace aries::fem

@@ -22,7 +22,7 @@ void InertiaGravity<R>::addEnergy(const PetscScalar *x, double *energy, double *
           mag += ei;
         }
         if (grav) {  // relative to the rest position: neither the value nor its round-off depends on the origin
-          const double ei = mass_[v] * gravity_[i] * (xi - vi.rest[i]);
+          const double ei = gravityMass_[v] * gravity_[i] * (xi - vi.rest[i]);
           e -= ei;
           mag += std::abs(ei);
         }
@@ -42,7 +42,7 @@ void InertiaGravity<R>::addGradient(const PetscScalar *x, PetscScalar *g) const 
     for (int i = 0; i < R; ++i) {
       if (vi.fixed(i)) continue;
       if (inertia) g[vi.loc + i] += mass_[v] * (x[vi.loc + i] - xTilde_[vi.loc + i]) / (dt_ * dt_);
-      if (grav) g[vi.loc + i] -= mass_[v] * gravity_[i];
+      if (grav) g[vi.loc + i] -= gravityMass_[v] * gravity_[i];
     }
   }
 }

@@ -15,10 +15,12 @@ namespace aries::fem {
 template <int R>
 class InertiaGravity final : public Term {
  public:
-  // `localSize`: the length of a local vector; the prediction starts at 0.
-  InertiaGravity(const VertexTable &verts, const std::vector<double> &mass, const Eigen::Vector3d &gravity,
-                 PetscInt localSize)
-      : verts_(verts), mass_(mass), gravity_(gravity), xTilde_(localSize, 0.0) {}
+  // `mass`: the lumped mass (inertia); `gravityMass`: the consistent load int rho N_v that gravity acts on (the same
+  // numbers except on quadratic tetrahedra, whose lumped mass is HRZ's). `localSize`: the length of a local vector;
+  // the prediction starts at 0.
+  InertiaGravity(const VertexTable &verts, const std::vector<double> &mass, const std::vector<double> &gravityMass,
+                 const Eigen::Vector3d &gravity, PetscInt localSize)
+      : verts_(verts), mass_(mass), gravityMass_(gravityMass), gravity_(gravity), xTilde_(localSize, 0.0) {}
   void setTimeStep(double dt) { dt_ = dt; }
   std::vector<double> &prediction() { return xTilde_; }  // local vector layout
   const char *name() const override { return "inertia and gravity"; }
@@ -29,7 +31,8 @@ class InertiaGravity final : public Term {
 
  private:
   const VertexTable &verts_;
-  const std::vector<double> &mass_;  // per local vertex
+  const std::vector<double> &mass_;         // per local vertex
+  const std::vector<double> &gravityMass_;  // per local vertex
   const Eigen::Vector3d &gravity_;
   double dt_ = 0.0;
   std::vector<double> xTilde_;       // per local dof

@@ -11,8 +11,12 @@ namespace {
 // The rest area (length, for an edge) each vertex of a facet carries: area / 3 on a triangle, length / 2 on an edge;
 // on a bilinear quadrangle (a hexahedron's face, vertices in cyclic closure order) the integral of each vertex's
 // shape function over the possibly warped face, 2x2 Gauss points (exact for a parallelogram: area / 4 each).
-// Returns the facet's rest area.
-double facetVertexAreas(const std::vector<Eigen::Vector3d> &X, std::vector<double> *sharesOut) {
+// On a quadratic tetrahedral mesh (`edgeNode` per facet vertex: a node at an edge's middle) the facet is one of the 4
+// equal triangles a straight quadratic face is split into (fem/mesh_quadratic.cpp), and the face's consistent load
+// int N_i dA is 0 at its corners and A / 3 at its edge nodes: each edge node lies on 3 of the 4 triangles, so every
+// triangle gives its corner 0 and each of its edge nodes 4/9 of its own area. Returns the facet's rest area.
+double facetVertexAreas(const std::vector<Eigen::Vector3d> &X, const std::vector<char> &edgeNode,
+                        std::vector<double> *sharesOut) {
   const size_t n = X.size();
   std::vector<double> &share = *sharesOut;
   share.assign(n, 0.0);
@@ -23,6 +27,8 @@ double facetVertexAreas(const std::vector<Eigen::Vector3d> &X, std::vector<doubl
   } else if (n == 3) {
     area = 0.5 * (X[1] - X[0]).cross(X[2] - X[0]).norm();
     share.assign(3, area / 3.0);
+    if (!edgeNode.empty())
+      for (int v = 0; v < 3; ++v) share[v] = edgeNode[v] ? 4.0 * area / 9.0 : 0.0;
   } else if (n == 4) {
     const double g = 1.0 / std::sqrt(3.0), corner[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
     for (int q = 0; q < 4; ++q) {
@@ -68,8 +74,12 @@ PetscErrorCode SurfaceLoads<R>::setup(const Mesh &mesh, const std::vector<Surfac
       std::vector<PetscInt> &vs = facetVertices[k];
       PetscCall(closureVertices(mesh, facets[k], &vs));
       std::vector<Eigen::Vector3d> X;
-      for (PetscInt v : vs) X.push_back(verts_[v].rest);
-      local += facetVertexAreas(X, &shares[k]);
+      std::vector<char> edgeNode;
+      for (PetscInt v : vs) {
+        X.push_back(verts_[v].rest);
+        if (mesh.quadratic) edgeNode.push_back(mesh.edgeNode[v]);
+      }
+      local += facetVertexAreas(X, edgeNode, &shares[k]);
     }
     PetscCallMPI(MPI_Allreduce(&local, &total, 1, MPI_DOUBLE, MPI_SUM, comm));
     if (!(total > 0.0))
