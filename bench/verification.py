@@ -12,6 +12,8 @@ Problems (each a function below, its reference in its docstring and in the repor
   cantilever     a plane-stress cantilever under an end load against Timoshenko beam theory
   cook_membrane  Cook's membrane, plane stress, small strain: the vertical displacement at the right edge's midpoint
                  against 23.96, on planar triangles and as a thin 3D slab (symmetry plane held in z)
+  compress_elements  the compressed cylinder at nu = 0.3 and 0.49, P1 against P2, against P2 on the finest mesh:
+                 the solve time each element needs to reach 1e-3 L
 """
 import argparse
 import datetime
@@ -187,7 +189,10 @@ def hanging_bar():
     lumped gravity: order 2 expected. Trilinear hexahedra (meshes/generate.sh hexcube) on the uniform grid: the
     discrete problem is the 1D bar's, whose linear elements are exact at the nodes (a uniform mesh, and the lumped
     weight equals the consistent one), so the error is the solver's; on the warped grids (hexcube w*: interior nodes
-    moved by up to 0.2 of a cell) the nodal error converges at the observed order."""
+    moved by up to 0.2 of a cell) the nodal error converges at the observed order. Quadratic tetrahedra (-element p2,
+    the same cube meshes): the exact displacement is quadratic in z and gravity acts on P2's consistent load, so the
+    discrete solution is the exact one at every node; what is left is the solver's tolerance (-newton_tol 1e-8) and
+    round-off, on every mesh."""
     rows = []
     grid = np.linspace(0.0, 1.0, 4001)
     for energy, material, stress in UNIAXIAL:
@@ -196,13 +201,15 @@ def hanging_bar():
         seg = 0.5 * (lam[1:] + lam[:-1] - 2.0) * np.diff(grid)
         uz = -np.concatenate([np.cumsum(seg[::-1])[::-1], [0.0]])
         families = [(energy, "cube", cube_sizes(), lambda n: "%d tets" % (6 * n ** 3)),
+                    (energy + ", P2", "cube", cube_sizes()[:3], lambda n: "%d P2 tets" % (6 * n ** 3)),
                     (energy + ", hexahedra", "hexcube", HEX_SIZES, lambda n: "%d hexahedra" % n ** 3),
                     (energy + ", warped hexahedra", "hexcube", WARPED_HEX_SIZES, lambda n: "%d hexahedra" % n ** 3)]
         for label, mesh_name, sizes, cells in families:
             hs, errs, ts, block = [], [], [], []
             for size, n in sizes:
-                rest, x, st, wall = run("hanging_%s_%s_%s" % (energy, mesh_name, size), [
-                    "-dm_plex_filename", mesh(mesh_name, size)] + material + [
+                quadratic = label.endswith("P2")
+                rest, x, st, wall = run("hanging_%s_%s_%s%s" % (energy, mesh_name, size, "_p2" * quadratic), [
+                    "-dm_plex_filename", mesh(mesh_name, size)] + ["-element", "p2"] * quadratic + material + [
                     "-bc_clamp", "top", "-density", "1000", "-gravity", "0,0,-5", "-steps", "1", "-newton_tol", "1e-8"])
                 exact = rest.copy()
                 exact[:, 2] += np.interp(rest[:, 2], grid, uz)
@@ -315,7 +322,8 @@ def cook_membrane():
     close to plane stress (a small through-thickness effect remains); the value is u E t / F with t = 1 at (48, 52, 0).
     The same slab in trilinear hexahedra (meshes/generate.sh cook_hex: n x n x 1 cells, 2x2x2 Gauss points): fully
     integrated Q1 locks in this bending-dominated panel (shear locking: no incompatible modes, no reduced
-    integration), so its values approach 23.96 from below."""
+    integration), so its values approach 23.96 from below. The tet slab in quadratic tetrahedra (-element p2, the same
+    meshes): P2 bends without locking, so its error falls fast."""
     hs, errs, ts, rows = [], [], [], []
     E, F, ref = 1e4, 0.1, 23.96
     def point(rest):
@@ -338,13 +346,15 @@ def cook_membrane():
     for row, o in zip(rows, orders(hs, errs)):
         row.insert(8, o)
     record("Cook's membrane", "planar triangles", hs, errs, ts, "relative error vs 23.96")
-    slab = []
-    for name, cells, per_cell, label in (("cook_slab", "tets", 6, "3D slab (tets)"),
-                                         ("cook_hex", "hexahedra", 1, "3D slab (hexahedra)")):
+    slab, slab_series = [], {}
+    for name, cells, per_cell, label, element in (("cook_slab", "tets", 6, "3D slab (tets)", "p1"),
+                                                  ("cook_slab", "P2 tets", 6, "3D slab (P2 tets)", "p2"),
+                                                  ("cook_hex", "hexahedra", 1, "3D slab (hexahedra)", "p1")):
         slab_hs, slab_errs, slab_ts, block = [], [], [], []
-        for size, n in (("test", 8), ("s16", 16), ("default", 32), ("s64", 64), ("s128", 128)):
-            rest, x, st, wall = run("%s_%s" % (name, size), [
-                "-dm_plex_filename", mesh(name, size), "-energy", "iarap", "-mu", str(0.375 * E), "-lambda",
+        sizes = (("test", 8), ("s16", 16), ("default", 32), ("s64", 64), ("s128", 128))
+        for size, n in sizes[:4] if element == "p2" else sizes:
+            rest, x, st, wall = run("%s_%s_%s" % (name, size, element), [
+                "-dm_plex_filename", mesh(name, size), "-element", element, "-energy", "iarap", "-mu", str(0.375 * E), "-lambda",
                 str(0.75 * E), "-bc_clamp", "left,mid", "-bc_clamp_left_components", "x,y", "-bc_clamp_mid_components",
                 "z", "-load_force_right", "0,%g,0" % (F / 2), "-steps", "1", "-newton_tol", "1e-9"])
             k = point(rest)
@@ -356,10 +366,13 @@ def cook_membrane():
                           "", "", "%.2f%%" % (100 * slab_errs[-1]),
                           "%.2f" % (sum(int(r["newton_its"]) for r in st) / len(st)), "%.2f" % wall])
         record("Cook's membrane", label, slab_hs, slab_errs, slab_ts, "relative error vs 23.96")
+        slab_series[{"p1": "P1", "p2": "P2"}[element] if name == "cook_slab" else "Q1"] = (slab_errs, slab_ts)
         for row, o in zip(block, orders(slab_hs, slab_errs)):
             row.insert(8, o)
         slab += block
-    return ("Cook's membrane (plane stress, small strain)", cook_membrane.__doc__,
+    reach = "Slab, solve time to a relative error of " + "; of ".join(
+        compare_times({k: slab_series[k] for k in ("P1", "P2")}, t) for t in (1e-2, 1e-3)) + "."
+    return ("Cook's membrane (plane stress, small strain)", cook_membrane.__doc__ + " " + reach,
             table(["model", "mesh", "cells", "grid", "u(48,52) E / F", "independent CST", "u(48,60) E / F",
                    "error vs 23.96", "order", "Newton / step", "solve s"], rows + slab))
 
@@ -399,6 +412,116 @@ def cantilever():
                    "solve s"], rows))
 
 
+P2_EDGES = [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)]  # a tetra10's edge nodes 4-9 (VTK order)
+
+
+def displacement_at(rest, cells, x, points):
+    """The displacement field of a P1 (4 nodes per cell) or P2 (10: corners, then P2_EDGES) solution at rest points:
+    each point is located in the element whose corner tet holds it (largest smallest barycentric) and the element's
+    shape functions interpolate the nodal displacements."""
+    u = x - rest
+    X0 = rest[cells[:, 0]]
+    T = np.stack([rest[cells[:, k]] - X0 for k in (1, 2, 3)], axis=2)
+    Tinv = np.linalg.inv(T)
+    out = np.empty((len(points), 3))
+    for i, p in enumerate(points):
+        lam = np.einsum("nij,nj->ni", Tinv, p - X0)
+        b = np.column_stack([1.0 - lam.sum(1), lam])
+        k = int(np.argmax(b.min(1)))
+        b = b[k]
+        if cells.shape[1] == 4:
+            N = b
+        else:
+            N = np.concatenate([b * (2 * b - 1), [4 * b[a] * b[c] for a, c in P2_EDGES]])
+        out[i] = N @ u[cells[k]]
+    return out
+
+
+def compress_points(n=400, seed=7):
+    """Sample points inside the cylinder (r <= 0.45 of its radius 0.5: inside every faceted mesh of it)."""
+    rng = np.random.default_rng(seed)
+    pts = rng.uniform([-0.45, -0.45, 0.02], [0.45, 0.45, 1.98], size=(4 * n, 3))
+    return pts[pts[:, 0] ** 2 + pts[:, 1] ** 2 <= 0.45 ** 2][:n]
+
+
+def time_to_reach(errs, times, target):
+    """Solve time at which a series (coarse to fine) reaches the error `target`, log-log in (error, time) between the
+    two meshes that bracket it, or from the two finest when none reaches it: (seconds, how), how = "" (interpolated),
+    "extrapolated", or "at most" (the coarsest mesh is already below the target: its time bounds it)."""
+    if errs[0] <= target:
+        return times[0], "at most"
+    k = next((k for k in range(1, len(errs)) if errs[k] <= target), len(errs) - 1)
+    s = math.log(target / errs[k - 1]) / math.log(errs[k] / errs[k - 1])
+    return math.exp(math.log(times[k - 1]) + s * (math.log(times[k]) - math.log(times[k - 1]))), \
+        "" if errs[k] <= target else "extrapolated"
+
+
+def compare_times(series, target):
+    """'P1 x s, P2 y s: P2 r times cheaper' for {label: (errs, times)} at `target`, each time marked as time_to_reach
+    says; the ratio is a lower bound where P2's time is an upper bound."""
+    found = {label: time_to_reach(e, t, target) for label, (e, t) in series.items()}
+    parts = ["%s %s%.2f s%s" % (label, "at most " if how == "at most" else "", t,
+                                " (extrapolated)" if how == "extrapolated" else "") for label, (t, how) in found.items()]
+    (t1, h1), (t2, h2) = found["P1"], found["P2"]
+    if h1 == "at most":
+        return "%.0e: %s; both are below it on the coarsest mesh, no ratio" % (target, ", ".join(parts))
+    bound = "at least " if h2 == "at most" else ""
+    return "%.0e: %s; P2 %s%.1fx cheaper" % (target, ", ".join(parts), bound, t1 / t2)
+
+
+def compress_elements():
+    """P1 against P2 on the compressed cylinder (the paper's Fig. 6 body, meshes/generate.sh cylinder: radius 0.5,
+    height 2, unstructured tets at h = 0.17, 0.12, 0.076, 0.05), static: bottom clamped, top clamped and moved down by
+    0.2 (10%) in 2 load steps, iarap with E = 1e4 at nu = 0.3 and at nu = 0.49 (nearly incompressible, where linear
+    tets lock), -newton_tol 1e-6, the paper's CG + Jacobi. No closed form exists, so the reference is P2 at h = 0.076
+    (77k DoFs); the error is the largest distance between the displacement fields at 400 random points inside the body
+    (r <= 0.45), over L. P2 runs on the two coarser meshes, P1 on all four; the reference's own error (about
+    (0.076 / 0.12)^3 = 0.25 of P2's at h = 0.12, at P2's order 3) makes that P2 error uncertain by about that fraction.
+    Time to an error (1e-3 L, and 2e-4 L, which P1 needs more than the coarsest mesh for at nu = 0.3): the solve time at
+    which a series reaches it, log-log between the two meshes that bracket it, extrapolated from the two finest where no
+    mesh reaches it, and bounded by the coarsest mesh's time where that one already does."""
+    points = compress_points()
+    sizes = (("test", 0.17), ("s12", 0.12), ("default", 0.076), ("s05", 0.05))
+    reference = "default"
+    rows, summary = [], []
+    for nu in (0.3, 0.49):
+        def solve(element, size):
+            rest, x, st, wall = run("compress_nu%s_%s_%s" % (nu, element, size), [
+                "-dm_plex_filename", mesh("cylinder", size), "-element", element, "-energy", "iarap", "-E", "1e4",
+                "-nu", str(nu), "-bc_clamp", "bottom,top", "-bc_clamp_top_translate", "0,0,-0.2", "-steps", "2",
+                "-newton_tol", "1e-6"])
+            with h5py.File(os.path.join(ARGS.out, "compress_nu%s_%s_%s.h5" % (nu, element, size))) as f:
+                cells = f["/mesh/topology"][:]
+            return rest, cells, x, st, wall
+        rest, cells, x, _, ref_wall = solve("p2", reference)
+        L = np.linalg.norm(rest.max(0) - rest.min(0))
+        ref = displacement_at(rest, cells, x, points)
+        series = {}
+        for element, use in (("p1", sizes), ("p2", sizes[:2])):
+            hs, errs, ts, block = [], [], [], []
+            for size, h in use:
+                rest, cells, x, st, wall = solve(element, size)
+                err = np.abs(displacement_at(rest, cells, x, points) - ref).max() / L
+                hs.append(h)
+                errs.append(err)
+                ts.append(wall)
+                block.append(["%g" % nu, element.upper(), size, "%d" % len(cells), "%d" % (3 * len(rest)), "%g" % h,
+                              "%.3e" % err, "%.2f" % (sum(int(r["newton_its"]) for r in st) / len(st)),
+                              "%.0f" % (sum(int(r["ksp_its"]) for r in st) / len(st)), "%.2f" % wall])
+            for r, o in zip(block, orders(hs, errs)):
+                r.insert(7, o)
+            rows += block
+            record("cylinder compress, nu = %g" % nu, element.upper(), hs, errs, ts,
+                   "max displacement error / L vs P2 at h = 0.076")
+            series[element.upper()] = (errs, ts)
+        summary.append("nu = %g, time to an error of %s (reference solve %.1f s)."
+                       % (nu, "; of ".join(compare_times(series, t) for t in (1e-3, 2e-4)), ref_wall))
+    return ("Compressed cylinder: linear against quadratic tetrahedra", compress_elements.__doc__ + " "
+            + " ".join(summary),
+            table(["nu", "element", "mesh", "elements", "dofs", "h", "max error / L", "order", "Newton / step",
+                   "PCG / step", "solve s"], rows))
+
+
 def tets_of(size):
     with open(mesh("shell", size)[:-4] + ".json") as fh:
         return json.load(fh)["tets"]
@@ -411,7 +534,8 @@ def study(args):
     ARGS = args
     os.makedirs(ARGS.out, exist_ok=True)
     del SERIES[:]
-    return [end_traction(), simple_shear(), hanging_bar(), lame_sphere(), cantilever(), cook_membrane()]
+    return [end_traction(), simple_shear(), hanging_bar(), lame_sphere(), cantilever(), cook_membrane(),
+            compress_elements()]
 
 
 def write_report(sections, seconds, made_by):

@@ -61,6 +61,9 @@ def cook_sizes(cells, per_square):
 CATALOG = {
     "cylinder": {
         "test": {"h": 0.17, "tets": 1770},
+        # verification (bench/verification.py: P1 against P2 on the compressed cylinder)
+        "s12": {"h": 0.12, "tets": 4708},
+        "s05": {"h": 0.05, "tets": 59184},
         "default": {"h": 0.076, "tets": 17782},
         "paper": {"alias": "default"},
     },
