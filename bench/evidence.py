@@ -557,6 +557,17 @@ def stress_tests(cfg):
     tests.append(("random-F patch, cube test", "random-F patch", cube,
                   ["-bc_clamp", "5", "-initial", "scramble", "-scramble_volume_ratio", "1", "-scramble_seed", "7",
                    "-E", "1e4", "-nu", "0.3"], "rest"))
+    # The other elements (docs/elements.md): trilinear hexahedra and quadratic tetrahedra, scrambled and inside out.
+    hexcube = mesh("hexcube", "test")
+    hex_pins = ["-bc_clamp", "bottom", "-E", "1e5", "-nu", "0"]
+    tests.append(("scramble hexcube test seed 1 (Q1)", "scramble", hexcube,
+                  hex_pins + ["-initial", "scramble", "-scramble_seed", "1"], "rest"))
+    tests.append(("inside-out hexcube test (Q1)", "inside-out", hexcube, hex_pins + ["-initial", "invert"], "rest"))
+    tests.append(("scramble cube test seed 1 (P2)", "scramble", cube,
+                  ["-element", "p2", "-bc_clamp", "5", "-initial", "scramble", "-scramble_seed", "1", "-E", "1e5",
+                   "-nu", "0"], "rest"))
+    tests.append(("inside-out armadillo %s (P2)" % s, "inside-out", arm, pins + ["-initial", "invert", "-element", "p2"],
+                  "rest"))
     return tests
 
 
@@ -603,7 +614,10 @@ def section_stability(cfg):
            "(options/cylinder_compress.yml on the %s mesh, E = %s, nu = %s, but the top moved down %g of the "
            "height %g over %d backward Euler steps of dt = %s: dynamic, as in the paper); **random-F patch** (the "
            "test cube, %s tets, bottom clamped, every other vertex uniform in a cube of the same volume: every "
-           "element gets an unrelated random F, many inverted; E = 1e4, nu = 0.3).\n"
+           "element gets an unrelated random F, many inverted; E = 1e4, nu = 0.3); and the same starts on the other "
+           "elements (docs/elements.md): the hexahedral cube (hexcube test, bottom clamped) scrambled and inside out "
+           "in trilinear hexahedra, the test cube scrambled and the pinned armadillo inside out in quadratic "
+           "tetrahedra (`-element p2`).\n"
            % (cfg["stab_max_it"], cfg["stab_timeout"], cyl_ratio, cfg["stab_mesh"], yml(c, "E"), yml(c, "nu"),
               COMPRESS_DZ, cyl_h, COMPRESS_STEPS, yml(c, "dt"), cube_cells),
            "Cell: **state** (Newton its, final error / L). Error = max vertex distance to the rest shape / L; for the "
