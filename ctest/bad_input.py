@@ -179,6 +179,9 @@ def case_defs():
     d["folded_hexahedron"] = (lambda: ["-dm_plex_filename", write("folded.msh", HEX_MSH.replace(
         "2 5 2 1 1 2 7 8 3 6 11 12 9", "2 5 2 1 1 2 7 3 8 6 11 12 9"))],
                               r"cell 1 .*degenerate: rest volume 0 \(det J <= 0 at some Gauss point: a folded hexahedron")
+    d["gamg_on_baij"] = (lambda: ["-dm_plex_filename", good_mesh(), "-pc_type", "gamg", "-dm_mat_type", "baij"],
+                         r"option -pc_type gamg: PETSc 3.18's GAMG cannot coarsen -dm_mat_type baij matrices; give "
+                         r"-dm_mat_type aij")
     d["p2_on_hexahedra"] = (lambda: ["-dm_plex_filename", write("hexes.msh", HEX_MSH), "-element", "p2"],
                             r"option -element p2: mesh '.*hexes\.msh' has hexahedra, which are trilinear by the mesh")
     d["p2_on_hdf5"] = (lambda: ["-dm_plex_filename", converted_mesh(), "-element", "p2"],

@@ -176,6 +176,33 @@ PetscErrorCode NewtonSolver::chooseMultigrid(bool dynamic, bool otherMatType, co
   PetscFunctionReturn(0);
 }
 
+// The matrix type: -dm_mat_type if given, else the discretization's BAIJ (bs = dofs per vertex), except that GAMG (by
+// the rule, or -pc_type gamg for this solver or the base solver it copies) gets AIJ: PETSc 3.18's GAMG cannot coarsen
+// BAIJ, and -pc_type gamg with another -dm_mat_type is a one-line error.
+PetscErrorCode NewtonSolver::chooseMatrixType(DM dm, const NewtonSolver *base, bool dynamic, const char *prefix) {
+  std::string matType;
+  PetscBool set = PETSC_FALSE;
+  PetscFunctionBeginUser;
+  PetscCall(core::optionString(nullptr, "-dm_mat_type", &matType, &set));
+  bool gamgAsked = false;
+  for (const char *p : {static_cast<const char *>(nullptr), prefix}) {
+    std::string pcType;
+    PetscBool pcSet = PETSC_FALSE;
+    PetscCall(core::optionString(p, "-pc_type", &pcType, &pcSet));
+    gamgAsked = gamgAsked || (pcSet && pcType == PCGAMG);
+  }
+  if (gamgAsked && set && matType != MATAIJ)
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+            "option -pc_type gamg: PETSc 3.18's GAMG cannot coarsen -dm_mat_type %s matrices; give -dm_mat_type aij or "
+            "leave -dm_mat_type out (GAMG then gets AIJ)",
+            matType.c_str());
+  if (base) multigridByRule_ = base->multigridByRule_;
+  else PetscCall(chooseMultigrid(dynamic, set && matType != MATAIJ, prefix, &multigridByRule_));
+  if (set) PetscCall(DMSetMatType(dm, matType.c_str()));
+  else if (multigridByRule_ || gamgAsked) PetscCall(DMSetMatType(dm, MATAIJ));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode NewtonSolver::setTimeStep(double dt) {
   PetscFunctionBeginUser;
   ctx_.dt = dt;
@@ -218,7 +245,6 @@ PetscErrorCode NewtonSolver::copySolverSettings(const NewtonSolver &base) {
 PetscErrorCode NewtonSolver::setup(fem::Discretization &disc, const NewtonOptions &options, bool dynamic, double dt,
                                    const NewtonSolver *base, const char *prefix, bool floating) {
   MPI_Comm comm;
-  PetscBool set;
   PetscFunctionBeginUser;
   opts_ = options;
   ctx_.disc = &disc;
@@ -240,12 +266,7 @@ PetscErrorCode NewtonSolver::setup(fem::Discretization &disc, const NewtonOption
   PetscCall(DMSNESSetJacobianLocal(dm, jacobianLocal, this));
   PetscCall(SNESSetObjective(snes, objectiveCallback, this));
   PetscCall(DMCreateGlobalVector(dm, &ctx_.work));
-  std::string matType;  // the discretization asks for BAIJ (bs = dofs per vertex); GAMG in PETSc 3.18 needs AIJ
-  PetscCall(core::optionString(nullptr, "-dm_mat_type", &matType, &set));
-  if (base) multigridByRule_ = base->multigridByRule_;
-  else PetscCall(chooseMultigrid(dynamic, set && matType != MATAIJ, prefix, &multigridByRule_));
-  if (set) PetscCall(DMSetMatType(dm, matType.c_str()));
-  else if (multigridByRule_) PetscCall(DMSetMatType(dm, MATAIJ));
+  PetscCall(chooseMatrixType(dm, base, dynamic, prefix));
   PetscCall(DMCreateMatrix(dm, &ctx_.J));
   Mat J = ctx_.J;
   PetscCall(MatSetOption(J, MAT_SYMMETRIC, PETSC_TRUE));

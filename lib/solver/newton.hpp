@@ -71,6 +71,7 @@ class NewtonSolver {
   PetscErrorCode configureMultigrid();
   // The preconditioner rule (-pc_type not given): GAMG for a large static solve, else Jacobi.
   PetscErrorCode chooseMultigrid(bool dynamic, bool otherMatType, const char *prefix, bool *multigrid);
+  PetscErrorCode chooseMatrixType(DM dm, const NewtonSolver *base, bool dynamic, const char *prefix);
   PetscErrorCode inertiaGuess(Mat H);  // initial guess of the linear solve
   PetscErrorCode finishUpdate(Vec xNew);  // after an update: its record and every step's finishUpdate
   static PetscErrorCode objectiveCallback(SNES, Vec, PetscReal *, void *);
