@@ -9,6 +9,8 @@ PetscErrorCode harmonicExtension(const Mesh &mesh, HarmonicProblem *p) {
   DM dm = mesh.dm;
   const int nv = p->verticesPerCell, nc = p->components;
   PetscFunctionBeginUser;
+  // One entry per DM cell below (cellOwned, closures): a quadratic mesh's DM cells are not its elements.
+  PetscCheck(!mesh.quadratic, PETSC_COMM_SELF, PETSC_ERR_SUP, "the harmonic extension needs a linear mesh");
   PetscCall(PetscObjectGetComm((PetscObject)dm, &comm));
   PetscInt pStart, pEnd;
   PetscCall(DMPlexGetChart(dm, &pStart, &pEnd));

@@ -136,6 +136,8 @@ class CellGrid {
 PetscErrorCode sourceCells(const Mesh &mesh, const std::vector<Eigen::Vector3d> &rest, std::vector<SourceCell> *cells,
                            double *diameter) {
   PetscFunctionBeginUser;
+  // One entry per DM cell below: a quadratic mesh's DM cells are not its elements (nested iteration refuses them).
+  PetscCheck(!mesh.quadratic, PETSC_COMM_SELF, PETSC_ERR_SUP, "locating points in a quadratic mesh is not supported");
   std::vector<PetscInt> verts;
   *diameter = 0.0;
   for (PetscInt c = mesh.cStart; c < mesh.cEnd; ++c) {

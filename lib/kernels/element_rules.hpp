@@ -115,8 +115,8 @@ inline double restPoints(const Mat<kVertices, 3> &X, std::array<Mat<kVertices, 3
 
 // The quadratic tetrahedron (P2, 10 nodes, straight edges) on the reference tet (0,0,0), (1,0,0), (0,1,0), (0,0,1):
 // barycentrics L0 = 1 - xi1 - xi2 - xi3, Lk = xi_k; corner k has N = Lk (2 Lk - 1), the node at the middle of edge
-// (a, b) has N = 4 La Lb. Nodes 0-3 are the corners, 4-9 the edges kEdges (VTK's and gmsh's order, so the node order
-// is also the XDMF Tetrahedron_10 order). F is linear in the element, so Psi(F) is no polynomial and no rule
+// (a, b) has N = 4 La Lb. Nodes 0-3 are the corners, 4-9 the edges kEdges: VTK's order, so the node order is also
+// the XDMF Tetrahedron_10 order (gmsh's 10-node tet swaps the last two: its node 8 is on edge 23, 9 on edge 13). F is linear in the element, so Psi(F) is no polynomial and no rule
 // integrates it exactly; the 4-point rule (degree 2, positive weights) integrates the linearized stiffness grad N^T C
 // grad N (degree 2) and the consistent load of a constant body force exactly, which is what the element's optimal
 // convergence needs, and 4 points x 6 strains = 24 = 30 dofs - 6 rigid motions leaves no spurious zero-energy mode.

@@ -191,13 +191,14 @@ PetscErrorCode NewtonSolver::chooseMatrixType(DM dm, const NewtonSolver *base, b
     PetscCall(core::optionString(p, "-pc_type", &pcType, &pcSet));
     gamgAsked = gamgAsked || (pcSet && pcType == PCGAMG);
   }
-  if (gamgAsked && set && matType != MATAIJ)
+  const bool aij = matType == MATAIJ || matType == MATSEQAIJ || matType == MATMPIAIJ;
+  if (gamgAsked && set && !aij)
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
             "option -pc_type gamg: PETSc 3.18's GAMG cannot coarsen -dm_mat_type %s matrices; give -dm_mat_type aij or "
             "leave -dm_mat_type out (GAMG then gets AIJ)",
             matType.c_str());
   if (base) multigridByRule_ = base->multigridByRule_;
-  else PetscCall(chooseMultigrid(dynamic, set && matType != MATAIJ, prefix, &multigridByRule_));
+  else PetscCall(chooseMultigrid(dynamic, set && !aij, prefix, &multigridByRule_));
   if (set) PetscCall(DMSetMatType(dm, matType.c_str()));
   else if (multigridByRule_ || gamgAsked) PetscCall(DMSetMatType(dm, MATAIJ));
   PetscFunctionReturn(0);
