@@ -57,6 +57,25 @@ inline Mat<R, C> pointDeformationGradient(const Mat<NV, R> &X, const Mat<NV, C> 
   return X.transpose() * W;
 }
 
+// Rest data of an isoparametric 3D element with rest node positions X (NV x 3) at its NQ points: W_q = dN/dX =
+// dN/dxi J^-1 (J = X^T dN/dxi, dN/dxi = gradients(q)) and the weight w_q = det J * pointWeight (the rule's weight on the
+// reference cell). Returns the smallest det J over the points (a valid, consistently numbered cell has all of them
+// > 0); W_q is zero where det J = 0.
+template <int NV, int NQ, class Gradients>
+inline double isoparametricRestPoints(const Mat<NV, 3> &X, const Gradients &gradients, double pointWeight,
+                                      std::array<Mat<NV, 3>, NQ> *W, std::array<double, NQ> *weight) {
+  double minDet = std::numeric_limits<double>::infinity();
+  for (int q = 0; q < NQ; ++q) {
+    const Mat<NV, 3> G = gradients(q);
+    const Mat<3, 3> J = X.transpose() * G;
+    const double det = J.determinant();
+    minDet = std::min(minDet, det);
+    (*weight)[q] = det * pointWeight;
+    (*W)[q] = det != 0.0 ? Mat<NV, 3>(G * J.inverse()) : Mat<NV, 3>::Zero();
+  }
+  return minDet;
+}
+
 // The trilinear hexahedron (Q1) on PETSc's reference cell [-1, 1]^3, vertices in DMPlex closure order: the bottom face
 // (xi_3 = -1) (-1,-1), (-1,1), (1,1), (1,-1), then the top face (xi_3 = 1) (-1,-1), (1,-1), (1,1), (-1,1).
 // (gmsh and VTK number the same vertices 0, 3, 2, 1, 4, 5, 6, 7: vtkFromClosure.)
@@ -99,16 +118,8 @@ inline Mat<kVertices, 3> shapeGradients(const Vec<3> &xi) {
 // (a valid, consistently numbered cell has all of them > 0); W_q is zero where det J = 0.
 inline double restPoints(const Mat<kVertices, 3> &X, std::array<Mat<kVertices, 3>, kPoints> *W,
                          std::array<double, kPoints> *weight) {
-  double minDet = std::numeric_limits<double>::infinity();
-  for (int q = 0; q < kPoints; ++q) {
-    const Mat<kVertices, 3> G = shapeGradients(gaussPoint(q));
-    const Mat<3, 3> J = X.transpose() * G;
-    const double det = J.determinant();
-    minDet = std::min(minDet, det);
-    (*weight)[q] = det;
-    (*W)[q] = det != 0.0 ? Mat<kVertices, 3>(G * J.inverse()) : Mat<kVertices, 3>::Zero();
-  }
-  return minDet;
+  return isoparametricRestPoints<kVertices, kPoints>(X, [](int q) { return shapeGradients(gaussPoint(q)); }, 1.0, W,
+                                                     weight);
 }
 
 }  // namespace hex8
@@ -159,19 +170,11 @@ inline Mat<kNodes, 3> shapeGradients(const Vec<4> &L) {
 }
 
 // Rest data of one quadratic tetrahedron with rest node positions X (10 x 3, node order above): W_q = dN/dxi J^-1 and
-// w_q = det J / 24 at each point, as hex8::restPoints. Returns the smallest det J (constant for straight edges).
+// w_q = det J / 24 at each point (isoparametricRestPoints). Returns the smallest det J (constant for straight edges).
 inline double restPoints(const Mat<kNodes, 3> &X, std::array<Mat<kNodes, 3>, kPoints> *W,
                          std::array<double, kPoints> *weight) {
-  double minDet = std::numeric_limits<double>::infinity();
-  for (int q = 0; q < kPoints; ++q) {
-    const Mat<kNodes, 3> G = shapeGradients(pointBarycentrics(q));
-    const Mat<3, 3> J = X.transpose() * G;
-    const double det = J.determinant();
-    minDet = std::min(minDet, det);
-    (*weight)[q] = det * kPointWeight;
-    (*W)[q] = det != 0.0 ? Mat<kNodes, 3>(G * J.inverse()) : Mat<kNodes, 3>::Zero();
-  }
-  return minDet;
+  return isoparametricRestPoints<kNodes, kPoints>(X, [](int q) { return shapeGradients(pointBarycentrics(q)); },
+                                                  kPointWeight, W, weight);
 }
 
 // The lumped mass of a straight-edged P2 tet of volume V (HRZ: the consistent mass's diagonal, int N_i^2 = V/70 at a
