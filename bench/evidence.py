@@ -18,6 +18,7 @@ import json
 import math
 import os
 import re
+import shutil
 import signal
 import statistics
 import subprocess
@@ -1105,6 +1106,13 @@ def section_verification(cfg):
         lines.append("| %s: %s | %s | %d | %.4g | %.3e | %.2f | %.2f |" % (
             sr["problem"], sr["label"], sr["error_kind"], len(hs), hs[-1], es[-1], order, sr["time"][-1]))
     lines.append("")
+    # The element comparison (P1 / P2 / Q1 per scene), the last section of the study: its chart and its table.
+    title, _, element_table = sections[-1]
+    shutil.copyfile(verification.ELEMENT_CHART, os.path.join(IMG, "elements.png"))
+    lines += ["### %s (P1, P2, Q1)\n" % title,
+              "Error against solve time for linear tetrahedra (P1), quadratic tetrahedra (P2, `-element p2`) and "
+              "trilinear hexahedra (Q1) on the same scenes (docs/elements.md). " + verification.ELEMENT_NOTE + "\n",
+              "![error against solve time per element](%s/elements.png)\n" % IMG_REL, element_table, ""]
     return lines
 
 

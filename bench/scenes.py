@@ -1,14 +1,16 @@
 #!/usr/bin/env python3
 """Table 1 / Table 2 rows for the paper's scenes at the paper's sizes, beside the paper's numbers.
 
-usage: bench/scenes.py [--table 1|2] [--steps K] [--ranks N] [--build DIR] [--out FILE.md] [SCENE ...]
+usage: bench/scenes.py [--table 1|2] [--steps K] [--ranks N] [--build DIR] [--out FILE.md] [--resume K] [SCENE ...]
 
 Runs each scene's options file (options/*.yml, meshes generated on demand) with its paper-size mesh and writes a
 markdown table. Table 1 (volumetric): elements, E, nu, dt, steps, Newton/step, solves/step, PCG/step, s/step, failed
 steps. Table 2 (cloth, the default cloth mesh): model, stretch, shear, bending, steps, Newton/step, solves/step,
 PCG/step, s/step; it also renders the final cloth states to PNG (bench/results/images/). Paper: 20-core 3.8 GHz i9,
 Eigen PCG + Jacobi. --steps K runs only the first K steps of each scene (the averages are then over those steps,
-stated in the table); without it every scene runs its full length (hours on 2 cores for the largest). Default
+stated in the table); without it every scene runs its full length (hours on 2 cores for the largest). --resume K
+checkpoints every K steps, so that a run cut short (a session's end) continues where it stopped when the same command
+is given again; a finished scene's checkpoint is removed. Default
 output: bench/results/table<N>.md; its header names the date and the commit the runs were made at. Use
 /usr/bin/python3 (Debian's).
 """
@@ -54,6 +56,9 @@ SCENES = {
     # 85,179 / 269,221 PCG, 219.69 / 685.93 s, one static solve each).
     "bunny_guided": ("bunny_guided", [], ("bunny", "default"), (200739, 1e2, 0.4, 0.05, 20, 3.3, 77701.5, 1026.22)),
     "bunny_interact": ("bunny_interact", [], ("bunny", "default"), (200739, 1e2, 0.4, 1e-2, 200, 1.0, 745.9, 68.04)),
+    # Fig. 13 on hexahedra as in the paper: the voxelized bunny (meshes/generate.sh bunny hex: 199,368 trilinear hexes).
+    "bunny_guided_hex": ("bunny_guided", [], ("bunny", "hex"), (200739, 1e2, 0.4, 0.05, 20, 3.3, 77701.5, 1026.22)),
+    "bunny_interact_hex": ("bunny_interact", [], ("bunny", "hex"), (200739, 1e2, 0.4, 1e-2, 200, 1.0, 745.9, 68.04)),
     "bunny_caricature": ("bunny_caricature", [], ("bunny", "fig15"), (292476, 1e2, 0.0, 1, 1, 25, 85179, 219.69)),
     "armadillo_caricature": ("armadillo_caricature", [], ("armadillo", "fig15"),
                              (292476, 1e2, 0.0, 1, 1, 67, 269221, 685.93)),
@@ -121,16 +126,25 @@ def run_scene(a, env, name, opts, extra, msh, total_steps):
     if "target_file" in text:
         args += ["-target_file", msh[:-4] + ".targets"]
     args += ["-stats", stats, "-output", base, "-output_every", str(RENDER.get(name, (None, 1000000))[1])]
+    checkpoint = base + ".checkpoint.h5"
+    resuming = a.resume and os.path.exists(checkpoint)
+    if a.resume:  # a run cut short (session end, kill) continues from its last checkpoint on the next --resume
+        args += ["-checkpoint_every", str(a.resume), "-checkpoint", checkpoint] + (["-restart", checkpoint] if resuming
+                                                                                  else [])
     if a.steps:
         args += ["-steps", str(min(a.steps, total_steps))]
         if not re.search(r"^bc_ramp_steps:", text, re.M):  # keep the full-length ramp unless the scene sets its own
             args += ["-bc_ramp_steps", str(total_steps)]
     cmd = ["mpiexec", "-n", str(a.ranks), "--bind-to", "none", os.path.join(a.build, "aries")] + args
     print("$ " + " ".join(cmd), flush=True)
-    p = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True)
-    with open(os.path.join(work, "log.txt"), "w") as fh:
-        fh.write(p.stdout + p.stderr)
-    summary = [l for l in (p.stdout + p.stderr).splitlines() if l.startswith("aries:")]
+    log = os.path.join(work, "log.txt")
+    with open(log, "a" if resuming else "w") as fh:  # streamed: a long run's progress can be followed there
+        p = subprocess.run(cmd, cwd=ROOT, env=env, stdout=fh, stderr=subprocess.STDOUT)
+    if not os.path.exists(stats):
+        sys.exit("%s wrote no stats (exit %d); its log: %s" % (name, p.returncode, log))
+    if p.returncode == 0 and os.path.exists(checkpoint):
+        os.remove(checkpoint)  # finished: a later --resume starts this scene afresh
+    summary = [l for l in open(log).read().splitlines() if l.startswith("aries:")]
     print("\n".join(summary[-3:]), flush=True)
     with open(stats) as fh:
         return list(csv.DictReader(l for l in fh if not l.startswith("#"))), base
@@ -181,6 +195,8 @@ def main():
     ap.add_argument("--build", default=os.path.join(ROOT, "build"))
     ap.add_argument("--out", default=None)
     ap.add_argument("--work", default=os.path.join(ROOT, "out", "bench"))
+    ap.add_argument("--resume", type=int, default=0, metavar="K",
+                    help="checkpoint every K steps and continue a scene cut short from its last checkpoint (0: off)")
     a = ap.parse_args()
     catalog = SCENES if a.table == 1 else CLOTH
     names = a.scenes or list(catalog)
@@ -212,7 +228,8 @@ def main():
             opts, extra, (mname, msize), paper = SCENES[n]
             msh = generate(mname, msize)
             with open(msh[:-4] + ".json") as fh:
-                elems = json.load(fh)["tets"]
+                info = json.load(fh)
+                elems = info["tets"] if "tets" in info else info["hexes"]
             st, base = run_scene(a, env, n, opts, extra, msh, paper[4])
             newton, solves, pcg, secs, failed = averages(st)
             if n in RENDER:

@@ -540,6 +540,15 @@ ELEMENT_SCENES = [
 ]
 
 
+ELEMENT_CHART = os.path.join(ROOT, "docs", "images", "verification_elements.png")  # bench/evidence.py copies it
+ELEMENT_NOTE = ("Per scene, the element that reaches a target error in the least solve time (from the convergence "
+                "series: interpolated log-log between the two meshes that bracket the target; 'at most': the coarsest "
+                "mesh is already below it; 'extrapolated': from the two finest meshes, at most a decade beyond the "
+                "finest error). The hanging bar on uniform hexahedral grids is left out: there Q1 is exact at the "
+                "nodes (a 1D property of that grid), so only the warped grids measure it. No Q1 on the cylinder: "
+                "there is no hexahedral cylinder mesh.")
+
+
 def element_comparison():
     """Charts error against solve time per scene and element (docs/images/verification_elements.png) and names the
     cheapest element per target error; returns the report's section."""
@@ -576,14 +585,9 @@ def element_comparison():
                                    for tt, n, h in sorted(times, key=lambda x: x[1]))])
     fig.suptitle("Error against solve time per element (bench/verification.py)", fontsize=10)
     fig.tight_layout()
-    fig.savefig(os.path.join(ROOT, "docs", "images", "verification_elements.png"), dpi=100)
+    fig.savefig(ELEMENT_CHART, dpi=100)
     plt.close(fig)
-    text = ("Per scene, the element that reaches a target error in the least solve time (from the series above: "
-            "interpolated log-log between the two meshes that bracket the target; 'at most': the coarsest mesh is "
-            "already below it; 'extrapolated': from the two finest meshes, at most a decade beyond the finest "
-            "error). The hanging bar on uniform hexahedral grids is left out: there Q1 is exact at the nodes (a 1D "
-            "property of that grid), so only the warped grids measure it. No Q1 on the cylinder: there is no "
-            "hexahedral cylinder mesh. Chart: ![error against time per element](images/verification_elements.png)")
+    text = ELEMENT_NOTE + " Chart: ![error against time per element](images/verification_elements.png)"
     return ("Elements: the cheapest per target error", text,
             table(["scene", "target", "cheapest", "its time", "every element"], rows))
 
