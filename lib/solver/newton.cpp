@@ -185,10 +185,11 @@ PetscErrorCode NewtonSolver::chooseMatrixType(DM dm, const NewtonSolver *base, b
   PetscFunctionBeginUser;
   PetscCall(core::optionString(nullptr, "-dm_mat_type", &matType, &set));
   bool gamgAsked = false;
-  for (const char *p : {static_cast<const char *>(nullptr), prefix}) {
+  const char *prefixes[] = {nullptr, prefix};  // the unprefixed option, then this solver's own (if it has a prefix)
+  for (int k = 0; k < (prefix ? 2 : 1); ++k) {
     std::string pcType;
     PetscBool pcSet = PETSC_FALSE;
-    PetscCall(core::optionString(p, "-pc_type", &pcType, &pcSet));
+    PetscCall(core::optionString(prefixes[k], "-pc_type", &pcType, &pcSet));
     gamgAsked = gamgAsked || (pcSet && pcType == PCGAMG);
   }
   const bool aij = matType == MATAIJ || matType == MATSEQAIJ || matType == MATMPIAIJ;

@@ -248,20 +248,22 @@ void shapeTargetAgainstSvd() {
     m.lambda = 2.9;
     m.singularity.mode = mode;
     m = finalized<D, D>(m);
-    for (const auto &s : identityFamilies<D, D>("shape target F " + std::to_string(D))) {
-      CellData<D> cell;
-      const Mat<D, D> Q = randomRotation<D>(rng);
-      Vec<D> lam;
-      for (int i = 0; i < D; ++i) lam[i] = rng.uniform(0.5, 1.6);
-      cell.target = Q * lam.asDiagonal() * Q.transpose();
-      const auto got = energies::evaluateEnergy<D, D>(m, cell, s.F);
-      const auto ref = shapeTargetReference<D>(s.F, cell.target, m.mu, m.lambda);
-      const std::string what = std::string("shape_target mode ") + energies::singularityName(mode) + " " + s.label;
-      expectSameDerivs<D * D>(got, ref, kIdTol, 1e-11, 1e-10, what, "shape_target==SVD form D=" + std::to_string(D));
-      expectDerivatives<D, D>(
-          [&](const Mat<D, D> &F, Order o) { return energies::evaluateEnergy<D, D>(m, cell, F, o); }, s.F, what,
-          "shape_target (identity test) D=" + std::to_string(D));
-    }
+    for (const auto &s : identityFamilies<D, D>("shape target F " + std::to_string(D)))
+      for (const bool restTarget : {false, true}) {  // a general S_t, and S_t = I (the fused iarap_lin path on tets)
+        CellData<D> cell;
+        const Mat<D, D> Q = randomRotation<D>(rng);
+        Vec<D> lam;
+        for (int i = 0; i < D; ++i) lam[i] = rng.uniform(0.5, 1.6);
+        if (!restTarget) cell.target = Q * lam.asDiagonal() * Q.transpose();
+        const auto got = energies::evaluateEnergy<D, D>(m, cell, s.F);
+        const auto ref = shapeTargetReference<D>(s.F, cell.target, m.mu, m.lambda);
+        const std::string what = std::string("shape_target mode ") + energies::singularityName(mode) + " " + s.label +
+                                 (restTarget ? " S_t = I" : "");
+        expectSameDerivs<D * D>(got, ref, kIdTol, 1e-11, 1e-10, what, "shape_target==SVD form D=" + std::to_string(D));
+        expectDerivatives<D, D>(
+            [&](const Mat<D, D> &F, Order o) { return energies::evaluateEnergy<D, D>(m, cell, F, o); }, s.F, what,
+            "shape_target (identity test) D=" + std::to_string(D));
+      }
     // Rest shapes: S_t = I at F = rotation, and a general S_t at F = Q S_t: zero energy and zero stress.
     for (int k = 0; k < 3; ++k) {
       CellData<D> cell;
