@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Table 1 / Table 2 rows for the paper's scenes at the paper's sizes, beside the paper's numbers.
 
-usage: bench/scenes.py [--table 1|2] [--steps K] [--ranks N] [--build DIR] [--out FILE.md] [--resume K] [SCENE ...]
+usage: bench/scenes.py [--table 1|2] [--steps K] [--ranks N] [--build DIR] [--out FILE.md] [--resume K] [--reuse]
+                       [SCENE ...]
 
 Runs each scene's options file (options/*.yml, meshes generated on demand) with its paper-size mesh and writes a
 markdown table. Table 1 (volumetric): elements, E, nu, dt, steps, Newton/step, solves/step, PCG/step, s/step, failed
@@ -10,7 +11,9 @@ PCG/step, s/step; it also renders the final cloth states to PNG (bench/results/i
 Eigen PCG + Jacobi. --steps K runs only the first K steps of each scene (the averages are then over those steps,
 stated in the table); without it every scene runs its full length (hours on 2 cores for the largest). --resume K
 checkpoints every K steps, so that a run cut short (a session's end) continues where it stopped when the same command
-is given again; a finished scene's checkpoint is removed. Default
+is given again; a finished scene's checkpoint is removed. --reuse reads a finished scene back (its work directory
+holds stats for every step and no checkpoint) instead of running it again; the table names the aries build of each
+row read back (a table can so be completed scene by scene across sessions). Default
 output: bench/results/table<N>.md; its header names the date and the commit the runs were made at. Use
 /usr/bin/python3 (Debian's).
 """
@@ -113,12 +116,27 @@ def machine_line(ranks):
     return "%d MPI ranks on %s (%d cores), %s" % (ranks, cpu, os.cpu_count(), platform.platform())
 
 
+def read_stats(stats):
+    """The rows of a stats file and the aries build named in its header line ('aries 0.1.0 (git X)')."""
+    with open(stats) as fh:
+        lines = fh.read().splitlines()
+    build = next((l[1:].strip() for l in lines if l.startswith("# aries")), "aries (build not recorded)")
+    return list(csv.DictReader(l for l in lines if not l.startswith("#"))), build
+
+
 def run_scene(a, env, name, opts, extra, msh, total_steps):
-    """Runs one scene; returns (stats rows, output base)."""
+    """Runs one scene; returns (stats rows, output base, the build of a row read back (--reuse) or None)."""
     work = os.path.join(a.work, name)
     os.makedirs(work, exist_ok=True)
     stats = os.path.join(work, "stats.csv")
     base = os.path.join(work, name)
+    checkpoint = base + ".checkpoint.h5"
+    want = min(a.steps, total_steps) if a.steps else total_steps
+    if a.reuse and os.path.exists(stats) and not os.path.exists(checkpoint):
+        rows, build = read_stats(stats)
+        if len(rows) == want:
+            print("%s: read back %d steps from %s (%s)" % (name, len(rows), stats, build), flush=True)
+            return rows, base, build
     args = ["-options_file", os.path.join(ROOT, "options", opts + ".yml"), "-dm_plex_filename", msh] + extra
     text = open(os.path.join(ROOT, "options", opts + ".yml")).read()
     if "fiber_file" in text:
@@ -126,7 +144,6 @@ def run_scene(a, env, name, opts, extra, msh, total_steps):
     if "target_file" in text:
         args += ["-target_file", msh[:-4] + ".targets"]
     args += ["-stats", stats, "-output", base, "-output_every", str(RENDER.get(name, (None, 1000000))[1])]
-    checkpoint = base + ".checkpoint.h5"
     resuming = a.resume and os.path.exists(checkpoint)
     if a.resume:  # a run cut short (session end, kill) continues from its last checkpoint on the next --resume
         args += ["-checkpoint_every", str(a.resume), "-checkpoint", checkpoint] + (["-restart", checkpoint] if resuming
@@ -146,8 +163,7 @@ def run_scene(a, env, name, opts, extra, msh, total_steps):
         os.remove(checkpoint)  # finished: a later --resume starts this scene afresh
     summary = [l for l in open(log).read().splitlines() if l.startswith("aries:")]
     print("\n".join(summary[-3:]), flush=True)
-    with open(stats) as fh:
-        return list(csv.DictReader(l for l in fh if not l.startswith("#"))), base
+    return read_stats(stats)[0], base, None
 
 
 CONVERGED = ("newton_step", "converged_initial", "step_bound", "energy_roundoff")
@@ -197,6 +213,8 @@ def main():
     ap.add_argument("--work", default=os.path.join(ROOT, "out", "bench"))
     ap.add_argument("--resume", type=int, default=0, metavar="K",
                     help="checkpoint every K steps and continue a scene cut short from its last checkpoint (0: off)")
+    ap.add_argument("--reuse", action="store_true",
+                    help="read a finished scene (stats for every step, no checkpoint) back instead of running it again")
     a = ap.parse_args()
     catalog = SCENES if a.table == 1 else CLOTH
     names = a.scenes or list(catalog)
@@ -207,6 +225,7 @@ def main():
     env = dict(os.environ, OMPI_MCA_rmaps_base_oversubscribe="1", OMPI_MCA_mpi_yield_when_idle="1")
     if os.geteuid() == 0:
         env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    reused = []
     # checked before the runs: a commit made while they run must not be credited with their numbers
     date = "%s UTC at %s" % (datetime.datetime.utcnow().strftime("%Y-%m-%d %H:%M"), commit_line())
     steps_note = (["Averages are over the first %d steps of each scene (prescribed motions keep their full-length ramp), "
@@ -230,9 +249,11 @@ def main():
             with open(msh[:-4] + ".json") as fh:
                 info = json.load(fh)
                 elems = info["tets"] if "tets" in info else info["hexes"]
-            st, base = run_scene(a, env, n, opts, extra, msh, paper[4])
+            st, base, build = run_scene(a, env, n, opts, extra, msh, paper[4])
             newton, solves, pcg, secs, failed = averages(st)
-            if n in RENDER:
+            if build:
+                reused.append("%s (%s)" % (n, build))
+            if n in RENDER and not build:
                 step = RENDER[n][0]
                 step = step if step is not None and step <= len(st) else None
                 img = os.path.join(ROOT, "bench", "results", "images")
@@ -264,8 +285,10 @@ def main():
                "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
         for n in names:
             opts, extra, label, paper = CLOTH[n]
-            st, base = run_scene(a, env, n, opts, extra + ["-dm_plex_gmsh_spacedim", "3"], msh, paper[3])
+            st, base, build = run_scene(a, env, n, opts, extra + ["-dm_plex_gmsh_spacedim", "3"], msh, paper[3])
             newton, solves, pcg, secs, failed = averages(st)
+            if build:
+                reused.append("%s (%s)" % (n, build))
             out.append("| %s | %s | %s | %s | %s | %d / %d | %.2f | %.2f | %.1f | %.3f | %d | %.1f | %.1f | %.2f |"
                        % (n, label, yml_value(opts, "mu1", extra),
                           yml_value(opts, "mu1" if yml_value(opts, "energy", extra) == "bw46" else "mu2", extra),
@@ -276,6 +299,9 @@ def main():
                             "--title", "%s (step %d)" % (label, len(st))], check=False)
     out.append("")
     out += steps_note
+    if reused:
+        out.append("Rows read back from an earlier run of this script (`--reuse`), with the aries build that ran them: "
+                   "%s.\n" % "; ".join(reused))
     write(out_path, out)
 
 
