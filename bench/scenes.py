@@ -254,7 +254,7 @@ def main():
             newton, solves, pcg, secs, failed = averages(st)
             if build:
                 reused.append("%s (%s)" % (n, build))
-            if n in RENDER and not build:
+            if n in RENDER:
                 step = RENDER[n][0]
                 step = step if step is not None and step <= len(st) else None
                 img = os.path.join(ROOT, "bench", "results", "images")
