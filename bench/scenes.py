@@ -13,7 +13,7 @@ stated in the table); without it every scene runs its full length (hours on 2 co
 checkpoints every K steps, so that a run cut short (a session's end) continues where it stopped when the same command
 is given again; a finished scene's checkpoint is removed. --reuse reads a finished scene back (its work directory
 holds stats for every step and no checkpoint) instead of running it again; the table names the aries build of each
-row read back (a table can so be completed scene by scene across sessions). Default
+row read back or continued from a checkpoint (a table can so be completed scene by scene across sessions). Default
 output: bench/results/table<N>.md; its header names the date and the commit the runs were made at. Use
 /usr/bin/python3 (Debian's).
 """
@@ -117,10 +117,12 @@ def machine_line(ranks):
 
 
 def read_stats(stats):
-    """The rows of a stats file and the aries build named in its header line ('aries 0.1.0 (git X)')."""
+    """The rows of a stats file and the aries builds named in its header lines ('aries 0.1.0 (git X)', then
+    'aries 0.1.0 (git Y) from step N' for each restart from a checkpoint)."""
     with open(stats) as fh:
         lines = fh.read().splitlines()
-    build = next((l[1:].strip() for l in lines if l.startswith("# aries")), "aries (build not recorded)")
+    builds = [l[1:].strip() for l in lines if l.startswith("# aries")]  # a resumed run names each build and its start
+    build = "; ".join(builds) if builds else "aries (build not recorded)"
     return list(csv.DictReader(l for l in lines if not l.startswith("#"))), build
 
 
@@ -163,7 +165,8 @@ def run_scene(a, env, name, opts, extra, msh, total_steps):
         os.remove(checkpoint)  # finished: a later --resume starts this scene afresh
     summary = [l for l in open(log).read().splitlines() if l.startswith("aries:")]
     print("\n".join(summary[-3:]), flush=True)
-    return read_stats(stats)[0], base, None
+    rows, build = read_stats(stats)
+    return rows, base, (build if resuming else None)  # a resumed row names the builds that ran its parts
 
 
 CONVERGED = ("newton_step", "converged_initial", "step_bound", "energy_roundoff")
@@ -303,8 +306,9 @@ def main():
     out.append("")
     out += steps_note
     if reused:
-        out.append("Rows read back from an earlier run of this script (`--reuse`), with the aries build that ran them: "
-                   "%s.\n" % "; ".join(reused))
+        out.append("Rows read back from an earlier run of this script (`--reuse`) or continued from a checkpoint "
+                   "(`--resume`), with the aries builds that ran them (and the step each took over at): %s.\n"
+                   % "; ".join(reused))
     write(out_path, out)
 
 

@@ -853,6 +853,11 @@ def case_rest_continued():
           "%.3e L" % (len(rows), sorted(set(r["reason"] for r in later)), max(updates), sum(updates), err))
     if len(rows) != 41:
         fail("expected 41 stats rows, got %d" % len(rows))
+    with open(out_base(tag) + ".csv") as fh:  # the restarted file names both runs' builds, the second with its start
+        builds = [line.strip() for line in fh if line.startswith("# aries ")]
+    if len(builds) != 2 or not builds[1].endswith(" from step 22"):
+        fail("the restarted stats file should name the first run's build and then the restart's 'from step 22': %s"
+             % builds)
     bad = [(r["step"], r["reason"]) for r in rows if r["reason"] not in CONVERGED]
     if bad:
         fail("steps not converged: %s" % bad)

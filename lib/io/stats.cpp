@@ -21,18 +21,25 @@ PetscErrorCode StatsWriter::open(MPI_Comm comm, const std::string &path, PetscIn
   bool bad = false;
   if (rank == 0) {
     static const char header[] = "step,time,newton_its,ksp_its,wall_s,energy,min_alpha,max_disp,reason,linear_solves,ksp_at_limit,residual,barrier_cells,barrier_fallback,coarse_newton_its,coarse_ksp_its,coarse_start";
-    std::vector<std::string> keep;
-    if (resumeAfterStep >= 0) {  // keep the rows up to the restart step, in a complete new file
+    std::vector<std::string> builds, keep;
+    if (resumeAfterStep >= 0) {  // keep the rows up to the restart step, and the builds that wrote them, in a new file
       std::ifstream in(path);
       std::string line;
       while (std::getline(in, line))
-        if (!line.empty() && std::isdigit(static_cast<unsigned char>(line[0])) && std::stol(line) <= resumeAfterStep)
+        if (line.rfind("# aries ", 0) == 0)
+          builds.push_back(line);
+        else if (!line.empty() && std::isdigit(static_cast<unsigned char>(line[0])) && std::stol(line) <= resumeAfterStep)
           keep.push_back(line);
     }
     const std::string tmp = path + ".tmp";
     std::FILE *f = makeParentDirectory(path) ? std::fopen(tmp.c_str(), "w") : nullptr;
     if (f) {
-      std::fprintf(f, "# aries %s (git %s)\n%s\n", version(), gitCommit(), header);
+      for (const auto &b : builds) std::fprintf(f, "%s\n", b.c_str());
+      if (resumeAfterStep >= 0)
+        std::fprintf(f, "# aries %s (git %s) from step %ld\n", version(), gitCommit(), static_cast<long>(resumeAfterStep) + 1);
+      else
+        std::fprintf(f, "# aries %s (git %s)\n", version(), gitCommit());
+      std::fprintf(f, "%s\n", header);
       for (const auto &l : keep) std::fprintf(f, "%s\n", l.c_str());
       bad = std::fclose(f) != 0 || std::rename(tmp.c_str(), path.c_str()) != 0;
       file_ = bad ? nullptr : std::fopen(path.c_str(), "a");
