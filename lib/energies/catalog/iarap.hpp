@@ -7,6 +7,8 @@
 #include "energies/descriptor.hpp"
 #include "energies/isotropic_arap_tet.hpp"
 
+#include <optional>
+
 namespace aries::energies {
 
 // The fused tet evaluation with weight w (iarap_lin's value at every F, iarap's outside the fix's band).
@@ -22,6 +24,13 @@ inline kernels::RootDerivatives<3> fusedRootDerivatives(const EnergyInput<3, 3> 
       kernels::wants(in.order, kernels::Order::Hessian) && !(in.filtered() && in.filter->analytic);
   return kernels::rootDerivatives(in.F, chainRuleHessian ? 2 : 1);
 }
+// The fused evaluation with weight w where the singularity fix is inactive; none inside its band, where the caller's
+// generic direction terms apply.
+inline std::optional<kernels::Derivs<9>> fusedOutsideFixBand(const EnergyInput<3, 3> &in, double w) {
+  const auto rd = fusedRootDerivatives(in);
+  if (!stretchFixInactive(in.m.singularity, rd.root.alpha)) return std::nullopt;
+  return fusedIsotropicArapTet(in, rd, w);
+}
 
 struct IarapEnergy : EnergyDefaults {
   static constexpr const char *name = "iarap";
@@ -33,10 +42,8 @@ struct IarapEnergy : EnergyDefaults {
   template <int R, int C>
   static kernels::Derivs<R * C> evaluate(const EnergyInput<R, C> &in) {
     if constexpr (R == 3 && C == 3) {
-      if (kernels::isIsotropic<3>(in.m.weight3)) {
-        const auto rd = fusedRootDerivatives(in);
-        if (stretchFixInactive(in.m.singularity, rd.root.alpha)) return fusedIsotropicArapTet(in, rd, in.m.weight3(0, 0));
-      }
+      if (kernels::isIsotropic<3>(in.m.weight3))
+        if (auto fused = fusedOutsideFixBand(in, in.m.weight3(0, 0))) return *fused;
     }
     return layeredArap(in);
   }

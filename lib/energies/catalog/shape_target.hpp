@@ -25,10 +25,8 @@ struct ShapeTargetEnergy : EnergyDefaults {
   template <int R, int C>
   static kernels::Derivs<R * C> evaluate(const EnergyInput<R, C> &in) {
     if constexpr (R == 3 && C == 3) {
-      if (in.cell.target == Mat<3, 3>::Identity()) {  // the tensor term D = I - S_t vanishes (Eq. 65)
-        const auto rd = fusedRootDerivatives(in);
-        if (stretchFixInactive(in.m.singularity, rd.root.alpha)) return fusedIsotropicArapTet(in, rd, 0.5 * in.m.mu);
-      }
+      if (in.cell.target == Mat<3, 3>::Identity())  // the tensor term D = I - S_t vanishes (Eq. 65): iarap_lin, mu/2
+        if (auto fused = fusedOutsideFixBand(in, 0.5 * in.m.mu)) return *fused;
     }
     return rootEnergy(in, [&](const auto &ctx, const auto &terms, auto &out) {
       out = shapeTargetShear<R, C>(ctx, terms, in.cell.target, in.m.mu);
