@@ -198,10 +198,13 @@ PetscErrorCode run(int *exitCode) {
                         (int)simOpts.steps, simOpts.dt, mesh.diagonal));
   solver::RunSummary summary;
   PetscCall(sim.run(&output, &summary));
+  const std::string stepsRun = summary.firstStep > 1  // after -restart the averages cover the steps this run made
+                                   ? "steps " + std::to_string(summary.firstStep) + "-" + std::to_string(summary.stepsDone)
+                                   : std::to_string(summary.stepsDone) + " steps";
   PetscCall(PetscPrintf(comm,
-                        "aries: %d steps, %d DoFs: Newton %.2f/step, PCG %.1f/step, %.4f s/step (total %.2f s); "
+                        "aries: %s, %d DoFs: Newton %.2f/step, PCG %.1f/step, %.4f s/step (total %.2f s); "
                         "safeguard halvings %d, load sub-steps %d%s\n",
-                        (int)summary.stepsDone, (int)summary.dofs, summary.avgNewton, summary.avgLinear,
+                        stepsRun.c_str(), (int)summary.dofs, summary.avgNewton, summary.avgLinear,
                         summary.avgSeconds, summary.totalSeconds, (int)summary.safeguardHalvings,
                         (int)summary.loadSubsteps,
                         summary.failedSteps ? (", FAILED steps " + std::to_string(summary.failedSteps)).c_str() : ""));

@@ -843,8 +843,10 @@ def case_rest_continued():
               "hands_feet", "-initial", "scramble", "-scramble_seed", "3", "-density", "1", "-output", out_base(tag),
               "-output_every", "7", "-stats", out_base(tag) + ".csv", "-checkpoint", out_base(tag) + ".ck.h5"]
     run(common + ["-integrator", "static", "-steps", "21", "-checkpoint_every", "21"], tag=tag + "_static")
-    run(common + ["-integrator", "beuler", "-steps", "41", "-restart", out_base(tag) + ".ck.h5"],
-        tag=tag + "_dynamic")
+    log, _ = run(common + ["-integrator", "beuler", "-steps", "41", "-restart", out_base(tag) + ".ck.h5"],
+                 tag=tag + "_dynamic")
+    if not re.search(r"^aries: steps 22-41, \d+ DoFs: ", log, re.M):  # its averages cover the steps it ran
+        fail("the restarted run's summary line should say 'steps 22-41'")
     rows = stats(out_base(tag) + ".csv")
     err, _ = shape_error(out_base(tag), rigid=False)
     later = rows[1:]

@@ -349,6 +349,7 @@ PetscErrorCode Simulation::run(StepObserver *observer, RunSummary *summary) {
   if (observer && completedSteps_ == 0) PetscCall(observer->initial(*this));
   double totalNewton = 0, totalLinear = 0, totalSeconds = 0;
   const PetscInt first = completedSteps_ + 1;
+  summary->firstStep = first;
   // Step times from the run's start (0, or the restart point) as start + k dt, not a running sum: after 50 steps of
   // 1e-2 the time is 0.5, not 0.49999999999999994.
   const double startTime = time_;

@@ -46,7 +46,7 @@ struct SimulationOptions {
 PetscErrorCode readSimulationOptions(SimulationOptions *opts);
 
 struct RunSummary {
-  PetscInt stepsDone = 0, failedSteps = 0;
+  PetscInt firstStep = 1, stepsDone = 0, failedSteps = 0;  // steps firstStep..stepsDone ran (> 1 after -restart)
   double avgNewton = 0.0, avgLinear = 0.0, avgSeconds = 0.0, totalSeconds = 0.0;
   bool nested = false;                            // -coarse_mesh: coarse levels solved first in some steps
   double coarseNewton = 0.0, coarseLinear = 0.0;  // their updates and linear iterations per step (all levels)
