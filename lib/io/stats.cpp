@@ -35,11 +35,8 @@ PetscErrorCode StatsWriter::open(MPI_Comm comm, const std::string &path, PetscIn
     std::FILE *f = makeParentDirectory(path) ? std::fopen(tmp.c_str(), "w") : nullptr;
     if (f) {
       for (const auto &b : builds) std::fprintf(f, "%s\n", b.c_str());
-      if (resumeAfterStep >= 0)
-        std::fprintf(f, "# aries %s (git %s) from step %ld\n", version(), gitCommit(), static_cast<long>(resumeAfterStep) + 1);
-      else
-        std::fprintf(f, "# aries %s (git %s)\n", version(), gitCommit());
-      std::fprintf(f, "%s\n", header);
+      const std::string from = resumeAfterStep >= 0 ? " from step " + std::to_string(resumeAfterStep + 1) : "";
+      std::fprintf(f, "# aries %s (git %s)%s\n%s\n", version(), gitCommit(), from.c_str(), header);
       for (const auto &l : keep) std::fprintf(f, "%s\n", l.c_str());
       bad = std::fclose(f) != 0 || std::rename(tmp.c_str(), path.c_str()) != 0;
       file_ = bad ? nullptr : std::fopen(path.c_str(), "a");
