@@ -37,6 +37,7 @@ import numpy as np
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 OUT = os.path.join(ROOT, "out", "nested")
 SMALLER = {"paper": "default", "fig15": "default", "default": "test", "test": "coarse"}
+PER_STEP_ROWS = 20  # steps listed one by one; a longer run adds a row for the rest
 CONVERGED = ("newton_step", "converged_initial", "step_bound", "energy_roundoff")
 
 
@@ -232,14 +233,20 @@ def cmd_report():
                 "ranks, the first %d steps." % k, "",
                 "| step | plain: updates | plain: s | nested: fine updates | nested: coarse updates | nested: s |",
                 "|---|---|---|---|---|---|"]
-            for i in range(k):
+            for i in range(min(k, PER_STEP_ROWS)):
                 lines.append("| %s | %s | %.2f | %s | %s | %.2f |" % (p[i]["step"], p[i]["newton_its"],
                              float(p[i]["wall_s"]), n[i]["newton_its"], n[i]["coarse_newton_its"],
                              float(n[i]["wall_s"])))
-            tp, tn = sum(float(r["wall_s"]) for r in p[:k]), sum(float(r["wall_s"]) for r in n[:k])
-            lines += ["| all %d | %d | %.1f | %d | %d | %.1f |" % (
-                k, sum(int(r["newton_its"]) for r in p[:k]), tp, sum(int(r["newton_its"]) for r in n[:k]),
-                sum(int(r["coarse_newton_its"]) for r in n[:k]), tn), ""]
+
+            def total(label, a, b):  # sums over the steps a..b-1 (0-based)
+                return "| %s | %d | %.1f | %d | %d | %.1f |" % (
+                    label, sum(int(r["newton_its"]) for r in p[a:b]), sum(float(r["wall_s"]) for r in p[a:b]),
+                    sum(int(r["newton_its"]) for r in n[a:b]), sum(int(r["coarse_newton_its"]) for r in n[a:b]),
+                    sum(float(r["wall_s"]) for r in n[a:b]))
+            if k > PER_STEP_ROWS:  # a long run: the later steps as one row, then every step
+                lines += [total("steps 1-%d" % PER_STEP_ROWS, 0, PER_STEP_ROWS),
+                          total("steps %d-%d" % (PER_STEP_ROWS + 1, k), PER_STEP_ROWS, k)]
+            lines += [total("all %d" % k, 0, k), ""]
             bad = [r["step"] for r in p[:k] + n[:k] if r["reason"] not in CONVERGED]
             lines += ["Every step converged." if not bad else "Not converged: steps %s." % bad, ""]
     lines += ["Machine: %s. aries builds: %s." % ("; ".join(sorted(machines)), ", ".join(sorted(builds))), ""]
