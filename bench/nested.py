@@ -243,7 +243,7 @@ def cmd_report():
                     label, sum(int(r["newton_its"]) for r in p[a:b]), sum(float(r["wall_s"]) for r in p[a:b]),
                     sum(int(r["newton_its"]) for r in n[a:b]), sum(int(r["coarse_newton_its"]) for r in n[a:b]),
                     sum(float(r["wall_s"]) for r in n[a:b]))
-            if k > PER_STEP_ROWS:  # a long run: the later steps as one row, then every step
+            if k > PER_STEP_ROWS:  # a long run: totals of the listed steps and of the rest, before all steps
                 lines += [total("steps 1-%d" % PER_STEP_ROWS, 0, PER_STEP_ROWS),
                           total("steps %d-%d" % (PER_STEP_ROWS + 1, k), PER_STEP_ROWS, k)]
             lines += [total("all %d" % k, 0, k), ""]
