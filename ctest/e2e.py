@@ -599,7 +599,8 @@ def case_no_false_convergence():
     precondition and checks: as given (detached phase, then the supported solve), and with -static_detached_start
     false, the supported Newton solve alone from the collapsed start (one solve in -newton_history). When this was
     written the detached phase stopped at -snes_max_it (60 updates) and the supported solve ran from the collapsed
-    start in both: 39 of its 40 linear solves failed, diverged_line_search at 0.42 L."""
+    start in both: 39 of its 40 linear solves failed, diverged_line_search at 0.42 L. Then the same for a truncated
+    trust-region CG direction (truncated_direction_not_converged)."""
     for tag, extra in (("false_convergence", []),
                        ("false_convergence_supported", ["-static_detached_start", "false"])):
         log, code = run(["-dm_plex_filename", mesh("armadillo"), "-energy", "iarap", "-E", "1e5", "-nu", "0",
@@ -624,6 +625,34 @@ def case_no_false_convergence():
             fail("%s: reported converged ('%s') at %.3e L from the rest shape" % (tag, reason, err))
         if not converged and code != 3:
             fail("%s: the failed step should end the run with exit code 3 (-on_failure stop), got %d" % (tag, code))
+    truncated_direction_not_converged()
+
+
+def truncated_direction_not_converged():
+    """A direction from a trust-region CG that stopped at negative curvature (-ksp_type nash: CONVERGED_CG_NEG_CURVE,
+    a 'converged' KSP reason) is not a converged Newton step. The inside-out test bunny's step 1 with the exact
+    Hessian (-psd_projection none) and no preconditioner (Jacobi is indefinite there): NASH meets negative curvature
+    in its first iterations from update 1 on and returns p = 0, which the convergence check used to take as a Newton
+    step below the tolerance ("newton_step" with |r| 4.95e4 after 2 updates, 62x the start's residual). Now the step
+    must end either with a residual well below its start's or reported as failed."""
+    tag = "truncated_direction"
+    log, code = run(["-options_file", os.path.join(ARGS.root, "options", "bunny_inside_out.yml"), "-dm_plex_filename",
+                     mesh("bunny"), "-steps", "1", "-psd_projection", "none", "-ksp_type", "nash", "-pc_type", "none",
+                     "-snes_max_it", "30", "-ksp_converged_reason", "-output", out_base(tag), "-stats",
+                     out_base(tag) + ".csv", "-newton_history", out_base(tag) + "_newton.csv"],
+                    expect_code=None, tag=tag)
+    if "CONVERGED_CG_NEG_CURVE" not in log:
+        fail("%s: precondition: no NASH solve stopped at negative curvature, so this case no longer exercises the "
+             "check (log tail:\n%s)" % (tag, log[-2000:]))
+    row = stats(out_base(tag) + ".csv")[-1]
+    start = float(csv_rows(out_base(tag) + "_newton.csv")[0]["residual"])
+    final = float(row["residual"])
+    print("%s: reason '%s', exit code %d, residual %.3e at the start, %.3e at the end" % (tag, row["reason"], code,
+                                                                                        start, final))
+    if not row["reason"].startswith("diverged") and not final <= 1e-2 * start:
+        fail("%s: reported converged ('%s') with residual %.3e (start %.3e)" % (tag, row["reason"], final, start))
+    if row["reason"].startswith("diverged") and code != 3:
+        fail("%s: the failed step should end the run with exit code 3 (-on_failure stop), got %d" % (tag, code))
 
 
 def static_scramble_args(msh, seed, steps):

@@ -14,7 +14,7 @@ enum class Convergence {
   NewtonStep,      // the Newton step after >= 1 update is below the tolerance (applied as a final correction)
   StepBound,       // backward Euler: the residual bounds the Newton step below the tolerance (no linear solve)
   EnergyRoundoff,  // the predicted decrease is below the energy's round-off and the step is short (applied as a
-                   // final correction where it does not raise |g|)
+                   // final correction where it lowers |g|)
   Petsc,           // one of PETSc's tests the user enabled (-snes_atol, -snes_rtol, -snes_stol)
 };
 
@@ -24,7 +24,7 @@ enum class Convergence {
 constexpr double kRoundoffStepFactor = 10.0;
 
 struct DirectionMeasures {
-  bool linearConverged = false;  // the linear solve that gave the direction converged
+  bool linearConverged = false;  // the linear solve that gave the direction solved the system (not truncated)
   int iteration = 0;             // Newton iteration (0: the step's initial state)
   double stepInf = 0.0;          // |p|_inf
   double stepTol = 0.0;          // -newton_tol * L (* dt)

@@ -18,6 +18,15 @@ constexpr PetscInt kForcingCheckEvery = 5;
 // Round-off of the summed energy: machine epsilon times the sum of the magnitudes of its terms, with a safety factor
 // for the accumulation over many terms.
 constexpr double kRoundoffSafety = 1e3;
+
+// Did the linear solve solve the Newton system? The trust-region CG variants (-ksp_type nash, stcg, gltr) report a
+// truncated direction as converged (stopped at negative curvature or at the trust radius): a short direction from
+// them says nothing about the distance to equilibrium (NASH stopped at its first iteration returns p = 0, which
+// looked like a converged step), so it may still be searched along but never certifies convergence.
+bool linearSolveSolved(KSPConvergedReason reason) {
+  return reason > 0 && reason != KSP_CONVERGED_CG_NEG_CURVE && reason != KSP_CONVERGED_CG_CONSTRAINED &&
+         reason != KSP_CONVERGED_STEP_LENGTH;
+}
 }  // namespace
 
 ConvergenceCheck::~ConvergenceCheck() {
@@ -56,7 +65,7 @@ PetscErrorCode ConvergenceCheck::shapeDirection(NewtonContext &ctx, Direction &d
   d.slope = slope;
   // A predicted decrease below the energy's round-off cannot be measured by any line search.
   DirectionMeasures m;
-  m.linearConverged = linearReason > 0;
+  m.linearConverged = linearSolveSolved(linearReason);
   m.iteration = static_cast<int>(d.record.iteration);
   m.stepInf = stepInf;
   m.stepTol = ctx.stepTol;
@@ -95,7 +104,7 @@ PetscErrorCode ConvergenceCheck::shapeDirection(NewtonContext &ctx, Direction &d
       PetscCall(VecDot(F, Y, &slope));
       d.record.stepInf = stepInf;
       d.slope = slope;
-      m.linearConverged = linearReason > 0;
+      m.linearConverged = linearSolveSolved(linearReason);
       m.stepInf = stepInf;
       m.slope = slope;
       how = classifyDirection(m);

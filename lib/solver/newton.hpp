@@ -12,7 +12,7 @@
 //  * Convergence is decided on the Newton direction BEFORE any line search (paper Sec. 6): a step is converged when
 //    the inf-norm of the Newton step from a converged linear solve is at most -newton_tol * L (* dt for backward
 //    Euler), L the rest bounding-box diagonal. That small step is applied as a final correction (no line search, the
-//    safeguard still applies; only where it does not raise |g|) and not counted as an update, so a state at rest
+//    safeguard still applies; only where it lowers |g|) and not counted as an update, so a state at rest
 //    converges with 0 updates (reason
 //    converged_initial). Backward Euler with a PSD-filtered Hessian has H >= M / dt^2, which bounds the Newton step
 //    by the residual alone: below the tolerance the step is certified without a linear solve (reason step_bound).

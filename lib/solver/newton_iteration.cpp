@@ -209,7 +209,7 @@ PetscErrorCode NewtonSolver::preCheck(SNESLineSearch, Vec X, Vec Y, PetscBool *c
   PetscFunctionReturn(0);
 }
 
-// The direction Y (shaped by the safeguard) applied in full, X <- X - Y, where it does not raise the norm of the
+// The direction Y (shaped by the safeguard) applied in full, X <- X - Y, where it lowers the norm of the
 // gradient: near the solution an exact Newton step cuts it (quadratically) where the energy's change is round-off.
 // F follows X (the run's reported residual is the final state's).
 PetscErrorCode NewtonSolver::stepIfResidualDrops(Vec X, Vec Y, Vec F, bool *applied) {
@@ -220,7 +220,7 @@ PetscErrorCode NewtonSolver::stepIfResidualDrops(Vec X, Vec Y, Vec F, bool *appl
   PetscCall(SNESComputeFunction(ctx_.snes, ctx_.trialX, ctx_.trialF));
   PetscCall(VecNorm(F, NORM_2, &before));
   PetscCall(VecNorm(ctx_.trialF, NORM_2, &after));
-  if (!(after <= before)) PetscFunctionReturn(0);  // NaN too
+  if (!(after < before)) PetscFunctionReturn(0);  // NaN too; a zero direction changes nothing and is no update
   PetscCall(VecCopy(ctx_.trialX, X));
   PetscCall(VecCopy(ctx_.trialF, F));
   *applied = true;
