@@ -231,18 +231,21 @@ def cmd_report():
                 size, SMALLER[size], cs), "",
                 "options/bunny_inside_out.yml (iarap, E 1e4, nu 0, dt 1e-2, mollifier, every element at F = -I), 2 "
                 "ranks, the first %d steps." % k, "",
-                "| step | plain: updates | plain: s | nested: fine updates | nested: coarse updates | nested: s |",
-                "|---|---|---|---|---|---|"]
+                "min alpha = the smallest element alpha at the step's end (rest 64, 0 inverted; stats `min_alpha`).", "",
+                "| step | plain: updates | plain: s | plain: min alpha | nested: fine updates | nested: coarse updates "
+                "| nested: s | nested: min alpha |",
+                "|---|---|---|---|---|---|---|---|"]
             for i in range(min(k, PER_STEP_ROWS)):
-                lines.append("| %s | %s | %.2f | %s | %s | %.2f |" % (p[i]["step"], p[i]["newton_its"],
-                             float(p[i]["wall_s"]), n[i]["newton_its"], n[i]["coarse_newton_its"],
-                             float(n[i]["wall_s"])))
+                lines.append("| %s | %s | %.2f | %.2f | %s | %s | %.2f | %.2f |" % (
+                    p[i]["step"], p[i]["newton_its"], float(p[i]["wall_s"]), float(p[i]["min_alpha"]),
+                    n[i]["newton_its"], n[i]["coarse_newton_its"], float(n[i]["wall_s"]), float(n[i]["min_alpha"])))
 
-            def total(label, a, b):  # sums over the steps a..b-1 (0-based)
-                return "| %s | %d | %.1f | %d | %d | %.1f |" % (
+            def total(label, a, b):  # sums over the steps a..b-1 (0-based); min alpha: the smallest of the steps'
+                return "| %s | %d | %.1f | %.2f | %d | %d | %.1f | %.2f |" % (
                     label, sum(int(r["newton_its"]) for r in p[a:b]), sum(float(r["wall_s"]) for r in p[a:b]),
-                    sum(int(r["newton_its"]) for r in n[a:b]), sum(int(r["coarse_newton_its"]) for r in n[a:b]),
-                    sum(float(r["wall_s"]) for r in n[a:b]))
+                    min(float(r["min_alpha"]) for r in p[a:b]), sum(int(r["newton_its"]) for r in n[a:b]),
+                    sum(int(r["coarse_newton_its"]) for r in n[a:b]), sum(float(r["wall_s"]) for r in n[a:b]),
+                    min(float(r["min_alpha"]) for r in n[a:b]))
             if k > PER_STEP_ROWS:  # a long run: totals of the listed steps and of the rest, before all steps
                 lines += [total("steps 1-%d" % PER_STEP_ROWS, 0, PER_STEP_ROWS),
                           total("steps %d-%d" % (PER_STEP_ROWS + 1, k), PER_STEP_ROWS, k)]
