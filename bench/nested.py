@@ -13,6 +13,10 @@
                                               [--coarse-steps 1] [--variants plain,nested]
       options/bunny_inside_out.yml (paper Fig. 5 settings) on the bunny of each size, plain and with the next smaller
       bunny as the coarse level (paper: default; default: test): updates and wall time per step.
+  /usr/bin/python3 bench/nested.py scaling [--aries BIN] [--sizes test,default] [--ranks 2]
+      Why the inside-out counts grow with the mesh: steps 1-3 of options/bunny_inside_out.yml on each size, with the
+      density set so that the cell-scale ratio of stiffness to inertia, kappa = E dt^2 / (rho h^2) (h: the mesh's
+      target edge length), takes each value the test, default and paper bunnies have at the scene's density.
   /usr/bin/python3 bench/nested.py load [--aries BIN] [--load-steps 1,2,4] [--ranks 2]
       A smooth static problem from rest: options/cylinder_compress.yml made static (the top moved down by 0.6, 30% of
       the height) in 1, 2 or 4 load steps on the 17.8k-tet cylinder, plain and with the 1.8k-tet one as the coarse
@@ -122,7 +126,7 @@ def cmd_scramble():
 
 def cmd_inside_out():
     scene = os.path.join(ROOT, "options", "bunny_inside_out.yml")
-    for size in ARGS.sizes.split(","):
+    for size in (ARGS.sizes or "default").split(","):
         fine, coarse = mesh("bunny", size), mesh("bunny", SMALLER[size])
         args = ["-options_file", scene, "-dm_plex_filename", fine, "-steps", str(ARGS.steps)]
         for variant, extra in (("plain", []), ("nested", ["-coarse_mesh", coarse, "-coarse_steps",
@@ -132,6 +136,41 @@ def cmd_inside_out():
             tag = "inside_out_%s_%s" % (size, variant if variant == "plain" else "nested%d" % ARGS.coarse_steps)
             rs = run(tag, args + extra)
             print("%s: fine %s" % (tag, [int(r["newton_its"]) for r in rs]))
+
+
+SCALING_SIZES = ("test", "default", "paper")
+SCALING_STEPS = 3
+
+
+def scene_value(key):
+    """A number of options/bunny_inside_out.yml (E, dt, density)."""
+    text = open(os.path.join(ROOT, "options", "bunny_inside_out.yml")).read()
+    return float(re.search(r"^%s:\s*(\S+)" % key, text, re.M).group(1))
+
+
+def kappa(h, density):
+    """The cell-scale ratio of stiffness to inertia in a backward Euler step, E dt^2 / (rho h^2)."""
+    return scene_value("E") * scene_value("dt") ** 2 / (density * h * h)
+
+
+def mesh_h(size):
+    import json
+    with open(os.path.join(ROOT, "meshes", "cache", "bunny_%s.json" % size)) as fh:
+        return float(json.load(fh)["provenance"]["h"])
+
+
+def cmd_scaling():
+    scene = os.path.join(ROOT, "options", "bunny_inside_out.yml")
+    rho = scene_value("density")
+    for size in (ARGS.sizes or "test,default").split(","):
+        fine = mesh("bunny", size)
+        for other in SCALING_SIZES:  # kappa of each bunny at the scene's density, reached on this one
+            density = rho * mesh_h(other) ** 2 / mesh_h(size) ** 2
+            tag = "scaling_%s_kappa_%s" % (size, other)
+            rs = run(tag, ["-options_file", scene, "-dm_plex_filename", fine, "-steps", str(SCALING_STEPS),
+                           "-density", "%.6g" % density])
+            print("%s: density %.4g, kappa %.3g, updates %s" % (tag, density, kappa(mesh_h(size), density),
+                                                              [int(r["newton_its"]) for r in rs]))
 
 
 def cmd_load():
@@ -152,10 +191,62 @@ def log_header(tag):
     return (m.group(1) if m else "?"), (v.group(1) if v else "?")
 
 
+def scaling_section(machines, builds):
+    """The table of `scaling`: steps 1-3 per mesh and kappa; a mesh's own kappa at the scene's density may come from
+    its 20-step plain run of `inside_out` instead (the paper-size mesh, whose runs are long)."""
+    cells = {}
+    found = {}  # (size, kappa of) -> (stats rows, tag)
+    for size in SCALING_SIZES:
+        for other in SCALING_SIZES:
+            tag = "scaling_%s_kappa_%s" % (size, other)
+            if not os.path.exists(os.path.join(OUT, tag + ".csv")) and other == size:
+                tag = "inside_out_%s_plain" % size
+            if os.path.exists(os.path.join(OUT, tag + ".csv")):
+                found[(size, other)] = rows(os.path.join(OUT, tag + ".csv"))[:SCALING_STEPS]
+                cells[size] = re.search(r"(\d+) cells", open(os.path.join(OUT, tag + ".log")).read()).group(1)
+                m, b = log_header(tag)
+                machines.add(m)
+                builds.add(b)
+    if not any(k[0] != k[1] for k in found):
+        return []
+    rho = scene_value("density")
+    lines = ["## Why the inside-out counts grow with the mesh", "",
+             "options/bunny_inside_out.yml, steps 1-%d, plain, 2 ranks (`bench/nested.py scaling`). A backward Euler "
+             "step weighs each cell's stiffness against its inertia by kappa = E dt^2 / (rho h^2) (h: the mesh's target "
+             "edge length): refining at a fixed dt raises it. Each mesh runs at the kappa of each bunny at the scene's "
+             "density %g (the density changed, the tolerance not). Updates of steps 1, 2, 3; a mesh at its own kappa "
+             "is the scene as shipped." % (SCALING_STEPS, rho), "",
+             "| mesh | cells | h | " + " | ".join("kappa %.2f (%s)" % (kappa(mesh_h(o), rho), o)
+                                                   for o in SCALING_SIZES) + " |",
+             "|---|---|---|" + "---|" * len(SCALING_SIZES)]
+    bad = []
+    for size in SCALING_SIZES:
+        if size not in cells:
+            continue
+        row = []
+        for other in SCALING_SIZES:
+            rs = found.get((size, other))
+            row.append(" / ".join(r["newton_its"] for r in rs) if rs else "-")
+            bad += ["%s at kappa of %s, step %s" % (size, other, r["step"]) for r in rs or []
+                    if r["reason"] not in CONVERGED]
+        lines.append("| %s | %s | %g | %s |" % (size, cells[size], mesh_h(size), " | ".join(row)))
+    step1 = lambda size, other: int(found[(size, other)][0]["newton_its"])
+    by_kappa = ["kappa %.2f: %s" % (kappa(mesh_h(o), rho), ", ".join(
+        "%d (%s)" % (step1(sz, o), sz) for sz in SCALING_SIZES if (sz, o) in found)) for o in SCALING_SIZES
+        if sum((sz, o) in found for sz in SCALING_SIZES) > 1]
+    by_mesh = ["%s %d-%d" % (sz, min(step1(sz, o) for o in SCALING_SIZES if (sz, o) in found),
+                             max(step1(sz, o) for o in SCALING_SIZES if (sz, o) in found)) for sz in SCALING_SIZES
+               if sum((sz, o) in found for o in SCALING_SIZES) > 1]
+    lines += ["", "Step 1 at one kappa, coarse to fine mesh: %s. Step 1 on one mesh over the kappas: %s." % (
+        "; ".join(by_kappa), ", ".join(by_mesh)), "",
+        "Every step converged." if not bad else "Not converged: %s." % "; ".join(bad), ""]
+    return lines
+
+
 def cmd_report():
     lines = ["# Nested iteration: measured", "",
-             "Generated by `bench/nested.py report` from the runs of `bench/nested.py scramble` and `bench/nested.py "
-             "inside_out` (logs and stats in out/nested/). Step wall times include everything the step did: the coarse "
+             "Generated by `bench/nested.py report` from the runs of `bench/nested.py scramble`, `load`, `inside_out` "
+             "and `scaling` (logs and stats in out/nested/). Step wall times include everything the step did: the coarse "
              "levels' solves, the interpolations, the detached start. What the nested iteration is: docs/options.md "
              "(Nested iteration).", ""]
     machines, builds = set(), set()
@@ -252,6 +343,7 @@ def cmd_report():
             lines += [total("all %d" % k, 0, k), ""]
             bad = [r["step"] for r in p[:k] + n[:k] if r["reason"] not in CONVERGED]
             lines += ["Every step converged." if not bad else "Not converged: steps %s." % bad, ""]
+    lines += scaling_section(machines, builds)
     lines += ["Machine: %s. aries builds: %s." % ("; ".join(sorted(machines)), ", ".join(sorted(builds))), ""]
     path = os.path.join(ROOT, "docs", "nested.md")
     with open(path, "w") as fh:
@@ -262,18 +354,18 @@ def cmd_report():
 def main():
     global ARGS
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("command", choices=["scramble", "load", "inside_out", "report"])
+    ap.add_argument("command", choices=["scramble", "load", "inside_out", "scaling", "report"])
     ap.add_argument("--aries", default=os.path.join(ROOT, "build", "aries"))
     ap.add_argument("--surfaces", default="camel,hand,triceratops")
     ap.add_argument("--seeds", default="1,2,3")
-    ap.add_argument("--sizes", default="default")
+    ap.add_argument("--sizes", default=None, help="inside_out: default; scaling: test,default")
     ap.add_argument("--steps", type=int, default=20)
     ap.add_argument("--coarse-steps", type=int, default=1)
     ap.add_argument("--load-steps", default="1,2,4")
     ap.add_argument("--variants", default="plain,nested")
     ap.add_argument("--ranks", type=int, default=2)
     ARGS = ap.parse_args()
-    {"scramble": cmd_scramble, "load": cmd_load, "inside_out": cmd_inside_out,
+    {"scramble": cmd_scramble, "load": cmd_load, "inside_out": cmd_inside_out, "scaling": cmd_scaling,
      "report": cmd_report}[ARGS.command]()
 
 
