@@ -154,14 +154,20 @@ def kappa(h, density):
 
 
 def mesh_h(size):
+    """The bunny mesh's target edge length (meshes/cache/bunny_SIZE.json); None where that mesh was not generated."""
     import json
-    with open(os.path.join(ROOT, "meshes", "cache", "bunny_%s.json" % size)) as fh:
+    path = os.path.join(ROOT, "meshes", "cache", "bunny_%s.json" % size)
+    if not os.path.exists(path):
+        return None
+    with open(path) as fh:
         return float(json.load(fh)["provenance"]["h"])
 
 
 def cmd_scaling():
     scene = os.path.join(ROOT, "options", "bunny_inside_out.yml")
     rho = scene_value("density")
+    for other in SCALING_SIZES:  # every size's h is needed (the paper mesh: generated once, ~30 s)
+        mesh("bunny", other)
     for size in (ARGS.sizes or "test,default").split(","):
         fine = mesh("bunny", size)
         for other in SCALING_SIZES:  # kappa of each bunny at the scene's density, reached on this one
@@ -194,30 +200,37 @@ def log_header(tag):
 def scaling_section(machines, builds):
     """The table of `scaling`: steps 1-3 per mesh and kappa; a mesh's own kappa at the scene's density may come from
     its 20-step plain run of `inside_out` instead (the paper-size mesh, whose runs are long)."""
-    cells = {}
-    found = {}  # (size, kappa of) -> (stats rows, tag)
+    cells, ranks = {}, set()
+    found = {}  # (size, kappa of) -> the first steps' stats rows (a run that wrote no row is left out)
     for size in SCALING_SIZES:
         for other in SCALING_SIZES:
             tag = "scaling_%s_kappa_%s" % (size, other)
             if not os.path.exists(os.path.join(OUT, tag + ".csv")) and other == size:
                 tag = "inside_out_%s_plain" % size
-            if os.path.exists(os.path.join(OUT, tag + ".csv")):
-                found[(size, other)] = rows(os.path.join(OUT, tag + ".csv"))[:SCALING_STEPS]
-                cells[size] = re.search(r"(\d+) cells", open(os.path.join(OUT, tag + ".log")).read()).group(1)
-                m, b = log_header(tag)
-                machines.add(m)
-                builds.add(b)
+            if not os.path.exists(os.path.join(OUT, tag + ".csv")) or not rows(os.path.join(OUT, tag + ".csv")):
+                continue
+            found[(size, other)] = rows(os.path.join(OUT, tag + ".csv"))[:SCALING_STEPS]
+            log = open(os.path.join(OUT, tag + ".log")).read()
+            m = re.search(r"(\d+) cells", log)
+            cells[size] = m.group(1) if m else "?"
+            m = re.search(r"(\d+) ranks", log)
+            ranks.add(m.group(1) if m else "?")
+            m, b = log_header(tag)
+            machines.add(m)
+            builds.add(b)
     if not any(k[0] != k[1] for k in found):
         return []
     rho = scene_value("density")
+    kappa_of = lambda size: "%.2f" % kappa(mesh_h(size), rho) if mesh_h(size) else "?"
+    h_of = lambda size: "%g" % mesh_h(size) if mesh_h(size) else "?"
     lines = ["## Why the inside-out counts grow with the mesh", "",
-             "options/bunny_inside_out.yml, steps 1-%d, plain, 2 ranks (`bench/nested.py scaling`). A backward Euler "
+             "options/bunny_inside_out.yml, steps 1-%d, plain, %s ranks (`bench/nested.py scaling`). A backward Euler "
              "step weighs each cell's stiffness against its inertia by kappa = E dt^2 / (rho h^2) (h: the mesh's target "
              "edge length): refining at a fixed dt raises it. Each mesh runs at the kappa of each bunny at the scene's "
              "density %g (the density changed, the tolerance not). Updates of steps 1, 2, 3; a mesh at its own kappa "
-             "is the scene as shipped." % (SCALING_STEPS, rho), "",
-             "| mesh | cells | h | " + " | ".join("kappa %.2f (%s)" % (kappa(mesh_h(o), rho), o)
-                                                   for o in SCALING_SIZES) + " |",
+             "is the scene as shipped (without a `scaling` run there: steps 1-%d of its `inside_out` plain run); a step that did not converge counts in its column as run." % (
+                 SCALING_STEPS, "/".join(sorted(ranks)), rho, SCALING_STEPS), "",
+             "| mesh | cells | h | " + " | ".join("kappa %s (%s)" % (kappa_of(o), o) for o in SCALING_SIZES) + " |",
              "|---|---|---|" + "---|" * len(SCALING_SIZES)]
     bad = []
     for size in SCALING_SIZES:
@@ -229,9 +242,9 @@ def scaling_section(machines, builds):
             row.append(" / ".join(r["newton_its"] for r in rs) if rs else "-")
             bad += ["%s at kappa of %s, step %s" % (size, other, r["step"]) for r in rs or []
                     if r["reason"] not in CONVERGED]
-        lines.append("| %s | %s | %g | %s |" % (size, cells[size], mesh_h(size), " | ".join(row)))
+        lines.append("| %s | %s | %s | %s |" % (size, cells[size], h_of(size), " | ".join(row)))
     step1 = lambda size, other: int(found[(size, other)][0]["newton_its"])
-    by_kappa = ["kappa %.2f: %s" % (kappa(mesh_h(o), rho), ", ".join(
+    by_kappa = ["kappa %s: %s" % (kappa_of(o), ", ".join(
         "%d (%s)" % (step1(sz, o), sz) for sz in SCALING_SIZES if (sz, o) in found)) for o in SCALING_SIZES
         if sum((sz, o) in found for sz in SCALING_SIZES) > 1]
     by_mesh = ["%s %d-%d" % (sz, min(step1(sz, o) for o in SCALING_SIZES if (sz, o) in found),
