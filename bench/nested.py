@@ -43,6 +43,7 @@ OUT = os.path.join(ROOT, "out", "nested")
 SMALLER = {"paper": "default", "fig15": "default", "default": "test", "test": "coarse"}
 PER_STEP_ROWS = 20  # steps listed one by one; a longer run adds a row for the rest
 CONVERGED = ("newton_step", "converged_initial", "step_bound", "energy_roundoff")
+INSIDE_OUT_SCENE = os.path.join(ROOT, "options", "bunny_inside_out.yml")
 
 
 def env():
@@ -125,7 +126,7 @@ def cmd_scramble():
 
 
 def cmd_inside_out():
-    scene = os.path.join(ROOT, "options", "bunny_inside_out.yml")
+    scene = INSIDE_OUT_SCENE
     for size in (ARGS.sizes or "default").split(","):
         fine, coarse = mesh("bunny", size), mesh("bunny", SMALLER[size])
         args = ["-options_file", scene, "-dm_plex_filename", fine, "-steps", str(ARGS.steps)]
@@ -144,7 +145,7 @@ SCALING_STEPS = 3
 
 def scene_value(key):
     """A number of options/bunny_inside_out.yml (E, dt, density)."""
-    text = open(os.path.join(ROOT, "options", "bunny_inside_out.yml")).read()
+    text = open(INSIDE_OUT_SCENE).read()
     return float(re.search(r"^%s:\s*(\S+)" % key, text, re.M).group(1))
 
 
@@ -164,7 +165,7 @@ def mesh_h(size):
 
 
 def cmd_scaling():
-    scene = os.path.join(ROOT, "options", "bunny_inside_out.yml")
+    scene = INSIDE_OUT_SCENE
     rho = scene_value("density")
     for other in SCALING_SIZES:  # every size's h is needed (the paper mesh: generated once, ~30 s)
         mesh("bunny", other)
@@ -207,9 +208,10 @@ def scaling_section(machines, builds):
             tag = "scaling_%s_kappa_%s" % (size, other)
             if not os.path.exists(os.path.join(OUT, tag + ".csv")) and other == size:
                 tag = "inside_out_%s_plain" % size
-            if not os.path.exists(os.path.join(OUT, tag + ".csv")) or not rows(os.path.join(OUT, tag + ".csv")):
+            stats = rows(os.path.join(OUT, tag + ".csv")) if os.path.exists(os.path.join(OUT, tag + ".csv")) else []
+            if not stats:
                 continue
-            found[(size, other)] = rows(os.path.join(OUT, tag + ".csv"))[:SCALING_STEPS]
+            found[(size, other)] = stats[:SCALING_STEPS]
             log = open(os.path.join(OUT, tag + ".log")).read()
             m = re.search(r"(\d+) cells", log)
             cells[size] = m.group(1) if m else "?"
