@@ -64,6 +64,7 @@ CATALOG = {
         # verification (bench/verification.py: P1 against P2 on the compressed cylinder)
         "s12": {"h": 0.12, "tets": 4708},
         "s05": {"h": 0.05, "tets": 59184},
+        "s300k": {"h": 0.029, "tets": 292782},  # the peer issue's large static compression (bench/peer.py cylinder)
         "default": {"h": 0.076, "tets": 17782},
         "paper": {"alias": "default"},
     },
@@ -76,6 +77,16 @@ CATALOG = {
         "s384k": {"n": 40, "tets": 6 * 40 ** 3},  # scale-out: 384,000 tets (solver crossover, bench/scale_out.py)
         "s1m": {"n": 56, "tets": 6 * 56 ** 3},  # scale-out: 1,053,696 tets (solver crossover, bench/scale_out.py)
         "s2m": {"n": 70, "tets": 6 * 70 ** 3},  # scale-out: 2,058,000 tets (parallel input and output)
+    },
+    # the peer benchmark (bench/peer.py): a box 1 x 1 x 2 compressed along z by its supports, 10k to 1M tets
+    "box": {
+        "test": {"h": 0.2, "tets": 1292},
+        "s10k": {"h": 0.096, "tets": 10029},
+        "s40k": {"h": 0.06, "tets": 38633},
+        "default": {"h": 0.04, "tets": 125877},
+        "paper": {"alias": "default"},
+        "s400k": {"h": 0.0273, "tets": 388582},
+        "s1m": {"h": 0.0198, "tets": 1004954},
     },
     "hexcube": {  # trilinear hexahedra (Q1): the unit cube as an n^3 grid; "warped" moves its interior nodes
         "test": {"n": 6, "hexes": 6 ** 3},
@@ -104,6 +115,7 @@ CATALOG = {
         "paper": {"h": 0.0107, "tets": 639254},
         "fig15": {"h": 0.0143, "tets": 271096},  # caricature (Fig. 15, Table 1: 292,476 tets)
         "hextest": {"voxel": 0.03, "hexes": 7401},  # voxel hexahedra, a test size (at 0.04 the ears are 1 voxel thick)
+        "hexmid": {"voxel": 0.02, "hexes": 24850},  # voxel hexahedra between the two (the interaction's tail, issue 45)
         "hex": {"voxel": 0.01, "hexes": 199368},  # voxel hexahedra: the paper's Fig. 13 mesh size (200,739 hexahedra)
     },
     "octopus": {
@@ -187,6 +199,7 @@ PAPER = {  # the paper's meshes (Table 1: tets, Table 2: cloth triangles), for t
     "cloth": "32,768",
     "disk": "(not in the paper)",
     "shell": "(verification: Lame's sphere)",
+    "box": "(peer benchmark: DOLFINx, bench/peer.py)",
     "cook": "(verification: Cook's membrane)",
     "cook_slab": "(verification: Cook's membrane, 3D slab)",
     "cook_hex": "(verification: Cook's membrane, 3D slab, hexahedra)",
@@ -349,6 +362,21 @@ def build_cylinder(p):
     m.add_face_set(2, "top", F[top])
     m.add_face_set(3, "side", F[~bottom & ~top])
     return m, {}, {"source": "gmsh OpenCASCADE cylinder, meshes/geo/cylinder.geo", "h": p["h"]}
+
+
+def build_box(p):
+    m = mk.TetMesh(*gmsh_volume(read_geo("box.geo"), {"h": p["h"]}))
+    m.drop_unused_nodes()
+    m.orient()
+    F, _ = m.boundary_faces()
+    z = m.X[F][:, :, 2]
+    tol = 1e-9
+    bottom = (np.abs(z) < tol).all(1)
+    top = (np.abs(z - 2.0) < tol).all(1)
+    m.add_face_set(1, "bottom", F[bottom])
+    m.add_face_set(2, "top", F[top])
+    m.add_face_set(3, "side", F[~bottom & ~top])
+    return m, {}, {"source": "gmsh OpenCASCADE box 1 x 1 x 2, meshes/geo/box.geo", "h": p["h"]}
 
 
 def build_shell(p):
@@ -838,7 +866,7 @@ def build_nefertiti(p):
     return build_cgal_disk("data/meshes/nefertiti.off", p)
 
 
-BUILDERS = {"cylinder": build_cylinder, "cube": build_cube, "hexcube": build_hexcube, "armadillo": build_armadillo,
+BUILDERS = {"box": build_box, "cylinder": build_cylinder, "cube": build_cube, "hexcube": build_hexcube, "armadillo": build_armadillo,
             "bunny": build_bunny, "octopus": build_octopus, "triceratops": build_triceratops,
             "hand": build_hand, "camel": build_camel, "cloth": build_cloth, "cook": build_cook, "beam": build_beam,
             "cook_slab": build_cook_slab, "cook_hex": build_cook_hex,
