@@ -196,13 +196,13 @@ PetscErrorCode DiscretizationT<R, C, NV>::setStep(const StepState &step) {
 }
 
 template <int R, int C, int NV>
-PetscErrorCode DiscretizationT<R, C, NV>::fillBoundary(Vec xLocal) const {
+PetscErrorCode DiscretizationT<R, C, NV>::fillBoundary(Vec xLocal, double load) const {
   PetscScalar *x;
   PetscFunctionBeginUser;
   PetscCall(VecGetArray(xLocal, &x));
   for (const auto &vi : verts_)
     for (int i = 0; i < R; ++i)
-      if (vi.fixed(i)) x[vi.loc + i] = bc_.sets[vi.fixedBy[i]].target(vi.rest, step_.load)[i];
+      if (vi.fixed(i)) x[vi.loc + i] = bc_.sets[vi.fixedBy[i]].target(vi.rest, load)[i];
   PetscCall(VecRestoreArray(xLocal, &x));
   PetscFunctionReturn(0);
 }

@@ -135,7 +135,10 @@ class Discretization {
   const StepState &step() const { return step_; }
   double load() const { return step_.load; }
   double time() const { return step_.time; }
-  virtual PetscErrorCode fillBoundary(Vec xLocal) const = 0;
+  // Writes the Dirichlet values of the step's load into a local vector (its other entries are left as they are).
+  PetscErrorCode fillBoundary(Vec xLocal) const { return fillBoundary(xLocal, step_.load); }
+  // ... or of the prescribed motion at load parameter `load` (the lifted increment's boundary move).
+  virtual PetscErrorCode fillBoundary(Vec xLocal, double load) const = 0;
 
   // Rest positions of the free dofs (global vector).
   virtual PetscErrorCode restPositions(Vec xGlobal) const = 0;
@@ -146,6 +149,14 @@ class Discretization {
   virtual PetscErrorCode objective(Vec xLocal, PetscReal *value, PetscReal *magnitude = nullptr) const = 0;
   virtual PetscErrorCode gradient(Vec xLocal, Vec gLocal) const = 0;  // gLocal zeroed here; add to global with ADD_VALUES
   virtual PetscErrorCode hessian(Vec xLocal, Mat J) = 0;        // assembled, eigenvalue-filtered per element
+  // The same filtered Hessian times a local vector d, every local dof included (free and prescribed): y = H d in the
+  // local layout (yLocal zeroed here; add to a global vector with ADD_VALUES, which keeps the free rows). With d zero
+  // at the free dofs it is H_fd d_d, the coupling of a prescribed increment into the free equations.
+  virtual PetscErrorCode hessianProduct(Vec xLocal, Vec dLocal, Vec yLocal) const = 0;
+  // Preallocates J (a matrix of this DM's layout created with DMSetMatrixPreallocateSkip) from the terms themselves:
+  // the blocks their element and vertex matrices touch (elastic cells of any element type, bending hinges, pressure
+  // faces, contact and inertia), whatever couples what. Collective.
+  virtual PetscErrorCode preallocateHessian(Mat J) const = 0;
   // The element Hessians' eigenvalue filter used by hessian() (kernels/psd_projection.hpp); the Newton solver picks it
   // per iteration (-psd_projection).
   void setEigenFilter(kernels::EigenFilter filter) { hessianFilter_.filter = filter; }

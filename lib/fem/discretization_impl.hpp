@@ -38,12 +38,15 @@ class DiscretizationT final : public Discretization, public DiagnosticsView, pub
   PetscErrorCode detachedCopy(Mesh &mesh, std::unique_ptr<Discretization> *out) const override;
 
   PetscErrorCode setStep(const StepState &step) override;
-  PetscErrorCode fillBoundary(Vec xLocal) const override;
+  using Discretization::fillBoundary;
+  PetscErrorCode fillBoundary(Vec xLocal, double load) const override;
   PetscErrorCode restPositions(Vec xGlobal) const override;
   PetscErrorCode lumpedMass(Vec massGlobal) const override;
   PetscErrorCode objective(Vec xLocal, PetscReal *value, PetscReal *magnitude = nullptr) const override;
   PetscErrorCode gradient(Vec xLocal, Vec gLocal) const override;
   PetscErrorCode hessian(Vec xLocal, Mat J) override;
+  PetscErrorCode hessianProduct(Vec xLocal, Vec dLocal, Vec yLocal) const override;
+  PetscErrorCode preallocateHessian(Mat J) const override;
   PetscErrorCode curvatureGram(Vec xLocal, const std::vector<Vec> &dLocal, std::vector<double> *gram) const override;
   PetscErrorCode elasticEnergy(Vec xLocal, PetscReal *value) const override;
   PetscErrorCode updateBarrierFallback(Vec xLocal, double threshold, PetscInt *count) override;

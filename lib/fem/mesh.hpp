@@ -36,10 +36,6 @@ struct Mesh {
   std::vector<std::array<PetscInt, 10>> elementNodes;  // per element: local vertices, kernels::tet10's node order
   std::vector<PetscInt> elementCell;  // per element: one of its 8 cells in dm (its labels: the region)
   std::vector<char> edgeNode;         // per local vertex: 1 for a node at an edge's middle
-  // The matrix couples every two nodes of an element, which no cell of dm holds together (a corner and the opposite
-  // corner): per local vertex, the DM points of the nodes of its elements, dm's adjacency (DMPlexSetAdjacencyUser) for
-  // the Hessian's preallocation. Shared by copies of the mesh (and by DM clones, which share the adjacency).
-  std::shared_ptr<const std::vector<std::vector<PetscInt>>> nodeAdjacency;
   bool uvMap = false;  // -uv_map: planar elements (2D unknowns) on a 3D surface, rest = each 3D triangle
   PetscInt topoDim = 3, spaceDim = 3;
   PetscInt cStart = 0, cEnd = 0, vStart = 0, vEnd = 0;

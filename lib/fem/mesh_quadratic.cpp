@@ -89,40 +89,6 @@ PetscErrorCode elementNodes(DM coarse, DMPlexTransform tr, PetscInt c, PetscInt 
   PetscFunctionReturn(0);
 }
 
-// DMPlex adjacency of a quadratic mesh (Mesh::nodeAdjacency): a vertex is adjacent to every node of its elements;
-// other points to themselves (they carry no dofs).
-PetscErrorCode quadraticAdjacency(DM dm, PetscInt p, PetscInt *adjSize, PetscInt adj[], void *ctx) {
-  const auto &adjacency = *static_cast<const std::vector<std::vector<PetscInt>> *>(ctx);
-  PetscInt vStart, vEnd;
-  PetscFunctionBeginUser;
-  PetscCall(DMPlexGetDepthStratum(dm, 0, &vStart, &vEnd));
-  if (p < vStart || p >= vEnd) {
-    adj[0] = p;
-    *adjSize = 1;
-    PetscFunctionReturn(0);
-  }
-  const std::vector<PetscInt> &nodes = adjacency[p - vStart];
-  PetscCheck(static_cast<PetscInt>(nodes.size()) <= *adjSize, PETSC_COMM_SELF, PETSC_ERR_PLIB,
-             "vertex %d: %d adjacent nodes exceed PETSc's adjacency array (%d)", (int)p, (int)nodes.size(),
-             (int)*adjSize);
-  std::copy(nodes.begin(), nodes.end(), adj);
-  *adjSize = static_cast<PetscInt>(nodes.size());
-  PetscFunctionReturn(0);
-}
-
-// Per local vertex: the DM points of every node of the elements holding it (itself included), sorted.
-std::shared_ptr<const std::vector<std::vector<PetscInt>>> nodeAdjacency(const Mesh &mesh) {
-  auto adjacency = std::make_shared<std::vector<std::vector<PetscInt>>>(mesh.vEnd - mesh.vStart);
-  for (const auto &nodes : mesh.elementNodes)
-    for (PetscInt a : nodes)
-      for (PetscInt b : nodes) (*adjacency)[a].push_back(b + mesh.vStart);
-  for (auto &list : *adjacency) {
-    std::sort(list.begin(), list.end());
-    list.erase(std::unique(list.begin(), list.end()), list.end());
-  }
-  return adjacency;
-}
-
 // DMPlex's closure order gives its tetrahedra the negative orientation; VTK's Tetrahedron_10 (and ParaView's
 // higher-order rendering) expects corners 1, 2, 3 counterclockwise seen from corner 0. When the majority of the mesh's
 // elements is negative, every element's corners 1 and 2 swap, with the edge nodes that follow them; an element
@@ -191,9 +157,6 @@ PetscErrorCode refineToQuadratic(Mesh *mesh, const std::vector<PetscInt> &pointN
   mesh->naturalVertex = std::move(naturalVertex);
   mesh->numVerticesGlobal += numEdgesGlobal;  // naturalCell, cellOwned and numCellsGlobal stay per element
   PetscCall(orientElements(mesh));
-  mesh->nodeAdjacency = nodeAdjacency(*mesh);
-  PetscCall(DMPlexSetAdjacencyUser(mesh->dm, quadraticAdjacency,
-                                   const_cast<std::vector<std::vector<PetscInt>> *>(mesh->nodeAdjacency.get())));
   PetscFunctionReturn(0);
 }
 

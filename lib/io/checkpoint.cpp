@@ -57,12 +57,15 @@ PetscErrorCode writeCheckpoint(const solver::Simulation &sim, const core::Natura
   const long long step = sim.completedSteps(), nv = static_cast<long long>(vertices.total()),
                   nc = static_cast<long long>(disc.mesh().numCellsGlobal);
   const double time = sim.time(), load = disc.load();
+  const solver::NewtonMemory memory = sim.newtonMemory();
   hid_t f = dirOk ? core::createParallelFile(comm, tmp) : -1;
   bool ok = f >= 0 && core::writeBlockDataset(f, "/positions", vertices, positions, 3) &&
             core::writeBlockDataset(f, "/velocities", vertices, velocities, 3) &&
             writeScalarAttribute(f, "step", H5T_NATIVE_LLONG, step) &&
             writeScalarAttribute(f, "time", H5T_NATIVE_DOUBLE, time) &&
             writeScalarAttribute(f, "load", H5T_NATIVE_DOUBLE, load) &&
+            writeScalarAttribute(f, "filter_backoff", H5T_NATIVE_INT, memory.filterBackoff) &&
+            writeScalarAttribute(f, "filter_skip", H5T_NATIVE_INT, memory.filterSkip) &&
             writeScalarAttribute(f, "num_vertices", H5T_NATIVE_LLONG, nv) &&
             writeScalarAttribute(f, "num_cells", H5T_NATIVE_LLONG, nc);
   ok = ok && writeStringAttribute(f, "format", kFormat) && writeVersionAttributes(f);
@@ -84,6 +87,7 @@ PetscErrorCode readCheckpoint(const fem::Discretization &disc, const std::string
   std::string err;
   long long step = 0, nv = 0, nc = 0;
   double scalars[2] = {0, 0};
+  int memory[2] = {0, 0};  // NewtonMemory: filter_backoff, filter_skip (older checkpoints: none)
   if (rank == 0) {  // the attributes first: a file that is not a checkpoint of this mesh is one clear error
     H5E_auto2_t func;
     void *data;
@@ -110,6 +114,10 @@ PetscErrorCode readCheckpoint(const fem::Discretization &disc, const std::string
                  !readScalarAttribute(f, "num_vertices", H5T_NATIVE_LLONG, &nv) ||
                  !readScalarAttribute(f, "num_cells", H5T_NATIVE_LLONG, &nc)) {
         err = "checkpoint '" + path + "' is incomplete (missing attributes)";
+      } else if ((H5Aexists(f, "filter_backoff") > 0 &&
+                  !readScalarAttribute(f, "filter_backoff", H5T_NATIVE_INT, &memory[0])) ||
+                 (H5Aexists(f, "filter_skip") > 0 && !readScalarAttribute(f, "filter_skip", H5T_NATIVE_INT, &memory[1]))) {
+        err = "checkpoint '" + path + "' has malformed attributes filter_backoff / filter_skip";
       } else if (nv != mesh.numVerticesGlobal || nc != mesh.numCellsGlobal) {
         err = "checkpoint '" + path + "' was written for a mesh with " + std::to_string(nv) + " vertices and " +
               std::to_string(nc) + " cells, but '" + mesh.filename + "' has " + std::to_string(mesh.numVerticesGlobal) +
@@ -122,6 +130,7 @@ PetscErrorCode readCheckpoint(const fem::Discretization &disc, const std::string
   PetscCall(core::collectiveCheck(comm, !err.empty(), err));
   PetscCallMPI(MPI_Bcast(&step, 1, MPI_LONG_LONG, 0, comm));
   PetscCallMPI(MPI_Bcast(scalars, 2, MPI_DOUBLE, 0, comm));
+  PetscCallMPI(MPI_Bcast(memory, 2, MPI_INT, 0, comm));
   // Every rank reads its block of rows, then the rows move to the ranks that own those vertices.
   std::vector<PetscInt> natural, local;
   disc.diagnostics().ownedVertexIds(&natural, &local);
@@ -152,6 +161,7 @@ PetscErrorCode readCheckpoint(const fem::Discretization &disc, const std::string
   st->step = static_cast<PetscInt>(step);
   st->time = scalars[0];
   st->load = scalars[1];
+  st->newton = solver::NewtonMemory{memory[0], memory[1]};
   PetscFunctionReturn(0);
 }
 

@@ -23,6 +23,10 @@ enum class Convergence {
 // filtered Hessian (or an over-estimated round-off), not a certificate of equilibrium. It is not applied.
 constexpr double kRoundoffStepFactor = 10.0;
 
+// Round-off of the summed energy: machine epsilon times the sum of the magnitudes of its terms, with a safety factor
+// for the accumulation over many terms.
+constexpr double kRoundoffSafety = 1e3;
+
 struct DirectionMeasures {
   bool linearConverged = false;  // the linear solve that gave the direction solved the system (not truncated)
   int iteration = 0;             // Newton iteration (0: the step's initial state)

@@ -15,18 +15,7 @@ namespace {
 constexpr double kForcingMargin = 2.0;
 // Checking the iterate costs a reduction: look every few CG iterations.
 constexpr PetscInt kForcingCheckEvery = 5;
-// Round-off of the summed energy: machine epsilon times the sum of the magnitudes of its terms, with a safety factor
-// for the accumulation over many terms.
-constexpr double kRoundoffSafety = 1e3;
 
-// Did the linear solve solve the Newton system? The trust-region CG variants (-ksp_type nash, stcg, gltr) report a
-// truncated direction as converged (stopped at negative curvature or at the trust radius): a short direction from
-// them says nothing about the distance to equilibrium (NASH stopped at its first iteration returns p = 0, which
-// looked like a converged step), so it may still be searched along but never certifies convergence.
-bool linearSolveSolved(KSPConvergedReason reason) {
-  return reason > 0 && reason != KSP_CONVERGED_CG_NEG_CURVE && reason != KSP_CONVERGED_CG_CONSTRAINED &&
-         reason != KSP_CONVERGED_STEP_LENGTH;
-}
 }  // namespace
 
 ConvergenceCheck::~ConvergenceCheck() {
@@ -130,11 +119,12 @@ PetscErrorCode ConvergenceCheck::testIterate(NewtonContext &ctx, PetscInt it, Pe
   PetscCall(SNESGetFunction(ctx.snes, &g, nullptr, nullptr));
   PetscCall(ctx.stepBound(g, &bound));
   if (!(bound <= ctx.stepTol)) PetscFunctionReturn(0);
-  ctx.result.convergence = it == 0 ? Convergence::Initial : Convergence::StepBound;
+  ctx.result.convergence = it + ctx.iterationOffset == 0 ? Convergence::Initial : Convergence::StepBound;
   *reason = SNES_CONVERGED_SNORM_RELATIVE;
   IterationRecord rec;
   Vec x;
-  rec.iteration = it;
+  rec.iteration = it + ctx.iterationOffset;
+  rec.load = ctx.disc->load();
   rec.residual = fnorm;
   rec.stepInf = bound;  // a bound, not the step
   PetscCall(SNESGetSolution(ctx.snes, &x));

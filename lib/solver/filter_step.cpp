@@ -1,15 +1,21 @@
 // 5. HessianFilter (newton_steps.hpp, -psd_projection clamp|abs|adaptive|none, -psd_eigensystem, -psd_scope,
-// -psd_adaptive_tol): the eigenvalue filter of the element Hessians (kernels/psd_projection.hpp), per quadrature point
+// -psd_adaptive_tol, -newton_exact_hessian): the eigenvalue filter of the element Hessians (kernels/psd_projection.hpp), per quadrature point
 // or per whole element. Adaptive picks clamp or abs per Newton
 // iteration by the trust-region ratio of the previous update (Chen et al. 2024): rho = actual / predicted decrease with
 // the true quadratic model of the update taken; clamp where the model is trustworthy (|rho - 1| < -psd_adaptive_tol:
 // fast local convergence), abs otherwise (robust far from equilibrium). The first iteration of a solve has no model
 // to judge: abs.
+#include "solver/local_vec.hpp"
 #include "solver/newton_steps.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace aries::solver {
+
+namespace {
+constexpr int kMaxBackoff = 64;  // solves that keep the filter after consecutive failed unfiltered systems, at most
+}  // namespace
 
 PetscErrorCode HessianFilter::beginSolve(NewtonContext &ctx) {
   kernels::EigenFilter initial = kernels::EigenFilter::Clamp;
@@ -22,7 +28,70 @@ PetscErrorCode HessianFilter::beginSolve(NewtonContext &ctx) {
   ctx.disc->setEigenFilter(initial);
   ctx.disc->setAnalyticEigensystem(opts_.analyticEigensystem);
   ctx.disc->setWholeElementFilter(opts_.wholeElement);
+  if (usedExact_ && !gaveUp_) backoff_ = 0;  // the last solve's unfiltered systems were all definite
+  exactNow_ = usedExact_ = false;
+  gaveUp_ = skip_ > 0;  // backing off: this solve keeps the filter
+  if (skip_ > 0) --skip_;
+  filtered_ = initial;
   return 0;
+}
+
+NewtonMemory HessianFilter::memory() const {
+  return NewtonMemory{usedExact_ && !gaveUp_ ? 0 : backoff_, skip_};
+}
+
+void HessianFilter::restore(const NewtonMemory &m) {
+  backoff_ = m.filterBackoff;
+  skip_ = m.filterSkip;
+  usedExact_ = gaveUp_ = false;
+}
+
+// The unfiltered systems failed this solve: the filter for the rest of it and, doubling with each consecutive
+// failure, for the next solves.
+PetscErrorCode HessianFilter::giveUp(NewtonContext &ctx) {
+  exactNow_ = false;
+  gaveUp_ = true;
+  backoff_ = backoff_ == 0 ? 1 : std::min(2 * backoff_, kMaxBackoff);
+  skip_ = backoff_;
+  ctx.disc->setEigenFilter(filtered_);
+  return 0;
+}
+
+PetscErrorCode HessianFilter::repairDirection(NewtonContext &ctx, Direction &d, Vec X, Vec Y, Vec F,
+                                              PetscBool *changed) {
+  KSP ksp;
+  KSPConvergedReason reason;
+  PetscScalar slope;
+  PetscInt its;
+  PetscFunctionBeginUser;
+  if (!exactNow_) PetscFunctionReturn(0);
+  PetscCall(SNESGetKSP(ctx.snes, &ksp));
+  PetscCall(KSPGetConvergedReason(ksp, &reason));
+  PetscCall(VecDot(F, Y, &slope));
+  if (linearSolveSolved(reason) && slope > 0.0) PetscFunctionReturn(0);
+  PetscCall(giveUp(ctx));
+  IterationRecord failed = d.record;  // the unfiltered attempt keeps its row (one row per linear solve), not applied
+  failed.lambda = 0.0;
+  PetscCall(VecNorm(Y, NORM_INFINITY, &failed.stepInf));
+  ctx.result.history.push_back(failed);
+  {
+    LocalVec xl(ctx.disc->dm());
+    PetscCall(xl.fromGlobal(X, ctx.disc));
+    PetscCall(ctx.beginAssembly());
+    PetscCall(ctx.disc->hessian(xl.get(), ctx.J));
+    PetscCall(ctx.endAssembly());
+  }
+  PetscCall(KSPSetReusePreconditioner(ksp, PETSC_FALSE));
+  PetscCall(KSPSetOperators(ksp, ctx.J, ctx.J));
+  PetscCall(KSPSolve(ksp, F, Y));
+  PetscCall(KSPGetConvergedReason(ksp, &reason));
+  PetscCall(KSPGetIterationNumber(ksp, &its));
+  ++ctx.result.linearSolves;
+  if (reason == KSP_DIVERGED_ITS) ++ctx.result.linearAtLimit;
+  d.record.linearIterations = its;
+  d.record.filter = filtered_ == kernels::EigenFilter::Abs ? 'a' : 'c';
+  *changed = PETSC_TRUE;
+  PetscFunctionReturn(0);
 }
 
 // The adaptive filter judges the update by its curvature: the subspace step's model knows it, else one product.
@@ -36,15 +105,28 @@ PetscErrorCode HessianFilter::shapeDirection(NewtonContext &ctx, Direction &d, V
   PetscFunctionReturn(0);
 }
 
+// The adaptive filter's choice by the update's model fit; then the exact Hessian for the next system after a
+// full-length update (-newton_exact_hessian), the filter after a shortened one (the iterate is not yet where the
+// quadratic model holds).
 PetscErrorCode HessianFilter::finishUpdate(NewtonContext &ctx, const Direction &d, Vec xNew, double lambda) {
   PetscFunctionBeginUser;
-  if (opts_.mode != EigenFilterMode::Adaptive || !d.haveCurvature) PetscFunctionReturn(0);
-  PetscReal energy;
-  PetscCall(ctx.energyAt(xNew, &energy, nullptr));
-  const double predicted = lambda * d.slope - 0.5 * lambda * lambda * d.curvature;
-  const double rho = predicted != 0.0 ? (d.energyBefore - energy) / predicted : 0.0;
-  ctx.disc->setEigenFilter(std::abs(rho - 1.0) < opts_.adaptiveTol ? kernels::EigenFilter::Clamp
-                                                                    : kernels::EigenFilter::Abs);
+  if (opts_.mode == EigenFilterMode::Adaptive && d.haveCurvature) {
+    PetscReal energy;
+    PetscCall(ctx.energyAt(xNew, &energy, nullptr));
+    const double predicted = lambda * d.slope - 0.5 * lambda * lambda * d.curvature;
+    const double rho = predicted != 0.0 ? (d.energyBefore - energy) / predicted : 0.0;
+    filtered_ = std::abs(rho - 1.0) < opts_.adaptiveTol ? kernels::EigenFilter::Clamp : kernels::EigenFilter::Abs;
+    ctx.disc->setEigenFilter(filtered_);
+  }
+  if (!opts_.exactNearSolution || gaveUp_) PetscFunctionReturn(0);
+  const bool full = lambda == 1.0 && !d.halved;
+  if (exactNow_ && !full) {  // the true model's step had to be shortened: not where it holds
+    PetscCall(giveUp(ctx));
+    PetscFunctionReturn(0);
+  }
+  exactNow_ = full;
+  usedExact_ = usedExact_ || exactNow_;
+  ctx.disc->setEigenFilter(exactNow_ ? kernels::EigenFilter::None : filtered_);
   PetscFunctionReturn(0);
 }
 

@@ -24,6 +24,12 @@ class LocalVec {
     if (fillBoundaryOf) PetscCall(fillBoundaryOf->fillBoundary(v_));
     PetscFunctionReturn(0);
   }
+  PetscErrorCode zeros() {
+    PetscFunctionBeginUser;
+    PetscCall(DMGetLocalVector(dm_, &v_));
+    PetscCall(VecSet(v_, 0.0));
+    PetscFunctionReturn(0);
+  }
   Vec get() const { return v_; }
 
  private:

@@ -1,6 +1,7 @@
 #include "solver/newton.hpp"
 
 #include "core/options.hpp"
+#include "solver/local_vec.hpp"
 
 #include <string>
 
@@ -57,7 +58,8 @@ NewtonSolver::~NewtonSolver() {
   steps_.clear();  // before the SNES: the convergence check holds its KSP test's context
   if (ctx_.snes) SNESDestroy(&ctx_.snes);
   if (ctx_.J) MatDestroy(&ctx_.J);
-  for (Vec *v : {&ctx_.work, &ctx_.invMass, &ctx_.trialX, &ctx_.trialF})
+  for (Vec *v : {&ctx_.work, &ctx_.invMass, &ctx_.trialX, &ctx_.trialF, &lift_.rhs, &lift_.step, &lift_.trial,
+                 &lift_.coupling})
     if (*v) VecDestroy(v);
 }
 
@@ -269,8 +271,10 @@ PetscErrorCode NewtonSolver::setup(fem::Discretization &disc, const NewtonOption
   PetscCall(SNESSetObjective(snes, objectiveCallback, this));
   PetscCall(DMCreateGlobalVector(dm, &ctx_.work));
   PetscCall(chooseMatrixType(dm, base, dynamic, prefix));
+  PetscCall(DMSetMatrixPreallocateSkip(dm, PETSC_TRUE));  // the terms preallocate it (Discretization::preallocateHessian)
   PetscCall(DMCreateMatrix(dm, &ctx_.J));
   Mat J = ctx_.J;
+  PetscCall(disc.preallocateHessian(J));
   PetscCall(MatSetOption(J, MAT_SYMMETRIC, PETSC_TRUE));
   PetscBool symmetricStorage;  // SBAIJ keeps the upper triangle: the element blocks below the diagonal are dropped
   PetscCall(PetscObjectTypeCompareAny((PetscObject)J, &symmetricStorage, MATSBAIJ, MATSEQSBAIJ, MATMPISBAIJ, ""));
@@ -295,7 +299,9 @@ PetscErrorCode NewtonSolver::setup(fem::Discretization &disc, const NewtonOption
   steps_.push_back(std::move(check));
   if (opts_.subspace.size > 0) steps_.push_back(std::make_unique<SubspaceStep>(opts_.subspace));
   if (opts_.rotation.doublings >= 0) steps_.push_back(std::make_unique<RotationalUpdate>(opts_.rotation));
-  steps_.push_back(std::make_unique<HessianFilter>(opts_.filter));
+  auto filter = std::make_unique<HessianFilter>(opts_.filter);
+  filter_ = filter.get();
+  steps_.push_back(std::move(filter));
   auto safeguard = std::make_unique<AlphaSafeguard>(opts_.safeguard);
   safeguard_ = safeguard.get();
   steps_.push_back(std::move(safeguard));
@@ -353,22 +359,65 @@ PetscErrorCode NewtonSolver::setup(fem::Discretization &disc, const NewtonOption
 }
 
 PetscErrorCode NewtonSolver::solve(Vec x, NewtonResult *result) {
+  bool advanced;
+  return solve(x, ctx_.disc->load(), result, &advanced);
+}
+
+PetscErrorCode NewtonSolver::solve(Vec x, double target, NewtonResult *result, bool *advanced) {
   KSP ksp;
-  PetscInt kspBefore, kspAfter;
   PetscFunctionBeginUser;
   NewtonResult &cur = ctx_.result;
   cur = NewtonResult{};
   havePending_ = false;
+  ctx_.iterationOffset = 0;
+  *advanced = true;
   for (auto &step : steps_) PetscCall(step->beginSolve(ctx_));
   PetscCall(SNESGetKSP(ctx_.snes, &ksp));
-  PetscCall(KSPGetTotalIterations(ksp, &kspBefore));
-  PetscCall(SNESSolve(ctx_.snes, nullptr, x));
+  PetscCall(KSPGetTotalIterations(ksp, &kspBefore_));
+  bool converged = false;
+  if (target != ctx_.disc->load()) {
+    if (opts_.lift != LiftMode::Never) PetscCall(liftIncrement(x, target, advanced, &converged));
+    else *advanced = false;
+    if (!*advanced) {  // nothing moved: the caller moves the supports alone (the old path)
+      PetscCall(finishResult(false, result));
+      PetscFunctionReturn(0);
+    }
+  }
+  if (!converged) PetscCall(SNESSolve(ctx_.snes, nullptr, x));
+  PetscCall(finishResult(!converged, result));
+  if (converged) {  // by the lifted update's combined step: SNES did not run (its viewer does, as after a solve)
+    PetscCall(SNESViewFromOptions(ctx_.snes, nullptr, "-snes_view"));
+    Vec g;
+    LocalVec xl(ctx_.disc->dm()), gl(ctx_.disc->dm());
+    PetscCall(xl.fromGlobal(x, ctx_.disc));
+    PetscCall(gl.zeros());
+    PetscCall(VecDuplicate(ctx_.work, &g));
+    PetscCall(gradientAt(xl.get(), gl.get(), g));
+    PetscCall(VecNorm(g, NORM_2, &cur.residualNorm));
+    PetscCall(VecDestroy(&g));
+    *result = cur;
+  }
+  PetscFunctionReturn(0);
+}
+
+// The solve's counts and outcome: the Krylov iterations of every linear solve since it began (SNES keeps a stale
+// count when it converges at iteration 0), the residual after the final correction (SNES keeps the norm from before
+// it), the reason, a pending line search's record.
+PetscErrorCode NewtonSolver::finishResult(bool snesRan, NewtonResult *result) {
+  KSP ksp;
+  PetscInt kspAfter;
+  PetscFunctionBeginUser;
+  NewtonResult &cur = ctx_.result;
+  PetscCall(SNESGetKSP(ctx_.snes, &ksp));
   PetscCall(KSPGetTotalIterations(ksp, &kspAfter));
-  Vec g;  // the residual after the final correction (SNES keeps the norm from before it)
-  PetscCall(SNESGetFunction(ctx_.snes, &g, nullptr, nullptr));
-  PetscCall(VecNorm(g, NORM_2, &cur.residualNorm));
-  cur.linearIterations = kspAfter - kspBefore;  // SNES keeps a stale count when it converges at iteration 0
-  PetscCall(SNESGetConvergedReason(ctx_.snes, &cur.reason));
+  cur.linearIterations = kspAfter - kspBefore_;
+  cur.newtonIterations = std::max(cur.newtonIterations, ctx_.iterationOffset);
+  if (snesRan) {
+    Vec g;
+    PetscCall(SNESGetFunction(ctx_.snes, &g, nullptr, nullptr));
+    PetscCall(VecNorm(g, NORM_2, &cur.residualNorm));
+    PetscCall(SNESGetConvergedReason(ctx_.snes, &cur.reason));
+  }
   if (cur.reason <= 0) cur.convergence = Convergence::None;
   if (havePending_) {  // the last line search failed: keep its record
     cur.history.push_back(pending_.record);

@@ -4,6 +4,9 @@
 //  * Model: the energy is the SNES objective (line searches work on it), its gradient the residual, the assembled
 //    eigenvalue-filtered Hessian the Jacobian (DMSNES local callbacks; Dirichlet values filled by the boundary
 //    callback).
+//  * A step that moves the supports starts with lifted updates (lifted_increment.cpp, -lift_increments): the
+//    increment of the prescribed motion enters the linear solve, the interior moving with its supports, and the
+//    safeguard and a merit test shorten the combined update; SNES then iterates with the supports fixed.
 //  * The strategies that turn the Newton direction into an update are objects with their own options and state
 //    (newton_steps.hpp), run in a fixed order in the line search's pre-check: rigid-motion removal (a floating body),
 //    the convergence check, the subspace step, the rotational update, the adaptive filter's model, the alpha
@@ -55,6 +58,13 @@ class NewtonSolver {
   PetscErrorCode setup(fem::Discretization &disc, const NewtonOptions &options, bool dynamic, double dt,
                        const NewtonSolver *base = nullptr, const char *prefix = nullptr, bool floating = false);
   PetscErrorCode solve(Vec x, NewtonResult *result);  // x: initial guess in, solution out (global, free dofs)
+  // A solve that also takes the load from the discretization's (fem::StepState::load) to `target` (-lift_increments,
+  // lifted_increment.cpp): lifted updates carry the increment of the prescribed motion, the surface loads and the
+  // keyframed fields into the linear solves until the load reaches the target (or the combined step converges), then
+  // Newton continues at that load. The load it ends at is the discretization's (short of the target only when the
+  // safeguard kept shortening the lifted updates: the rest is a load sub-step). *advanced false: no length of the first
+  // lifted update was acceptable; nothing moved (the state, the load), the result counts its linear solve.
+  PetscErrorCode solve(Vec x, double target, NewtonResult *result, bool *advanced);
   // The time step changed (-on_failure halve_dt): tolerance and step bound follow it.
   PetscErrorCode setTimeStep(double dt);
 
@@ -64,6 +74,9 @@ class NewtonSolver {
   // Total potential at a global state (Dirichlet values filled); `magnitude` as in Discretization::objective.
   PetscErrorCode energyAt(Vec xGlobal, PetscReal *value, PetscReal *magnitude);
   double alphaMin() const { return opts_.safeguard.alphaMin; }
+  // The state the solver carries from one solve to the next (checkpointed with the run's state).
+  NewtonMemory memory() const;
+  void restore(const NewtonMemory &m);
 
  private:
   PetscErrorCode copySolverSettings(const NewtonSolver &base);
@@ -74,6 +87,16 @@ class NewtonSolver {
   PetscErrorCode chooseMatrixType(DM dm, const NewtonSolver *base, bool dynamic, const char *prefix);
   PetscErrorCode inertiaGuess(Mat H);  // initial guess of the linear solve
   PetscErrorCode finishUpdate(Vec xNew);  // after an update: its record and every step's finishUpdate
+  // The lifted load increment (lifted_increment.cpp).
+  PetscErrorCode setLoad(double load);
+  PetscErrorCode gradientAt(Vec xLocal, Vec gLocal, Vec gGlobal);
+  PetscErrorCode inertiaHoldsInterior(Vec coupling, double incrementInf, bool *holds);
+  PetscErrorCode liftedDirection(Vec xLocal, Vec coupling, Vec b, Vec p, IterationRecord *rec, bool *solved);
+  PetscErrorCode liftedLength(Vec x, Vec p, double s, double target, const std::vector<double> &alphaRef,
+                              bool certifying, double *lambda);
+  PetscErrorCode liftedUpdate(Vec x, double target, bool *advanced, bool *converged);
+  PetscErrorCode liftIncrement(Vec x, double target, bool *advanced, bool *converged);
+  PetscErrorCode finishResult(bool snesRan, NewtonResult *result);
   static PetscErrorCode objectiveCallback(SNES, Vec, PetscReal *, void *);
   static PetscErrorCode boundaryLocal(DM, Vec, void *);
   static PetscErrorCode functionLocal(DM, Vec, Vec, void *);
@@ -89,9 +112,15 @@ class NewtonSolver {
   bool multigridByRule_ = false;  // GAMG chosen by chooseMultigrid (the detached start's solver inherits it)
   std::vector<std::unique_ptr<NewtonStep>> steps_;  // in the order they run
   ConvergenceCheck *check_ = nullptr;               // owned by steps_
+  HessianFilter *filter_ = nullptr;                 // owned by steps_
   AlphaSafeguard *safeguard_ = nullptr;             // owned by steps_
   Direction pending_;        // the direction whose line search is running
   bool havePending_ = false;
+  struct {
+    Vec rhs = nullptr, step = nullptr, trial = nullptr;  // r_f + H_fd d, the lifted step p, a trial state
+    Vec coupling = nullptr;                              // H_fd d
+  } lift_;
+  PetscInt kspBefore_ = 0;   // the KSP's total iterations when the solve began
 };
 
 // Short name of a Newton outcome for stats and console ("newton_step", "converged_initial", "diverged_line_search").

@@ -128,6 +128,12 @@ PetscErrorCode NewtonSolver::inertiaGuess(Mat H) {
   PetscFunctionReturn(0);
 }
 
+NewtonMemory NewtonSolver::memory() const { return filter_ ? filter_->memory() : NewtonMemory{}; }
+
+void NewtonSolver::restore(const NewtonMemory &m) {
+  if (filter_) filter_->restore(m);
+}
+
 PetscErrorCode NewtonSolver::energyAt(Vec x, PetscReal *value, PetscReal *magnitude) {
   return ctx_.energyAt(x, value, magnitude);
 }
@@ -170,13 +176,15 @@ PetscErrorCode NewtonSolver::preCheck(SNESLineSearch, Vec X, Vec Y, PetscBool *c
   if (linearReason == KSP_DIVERGED_ITS) ++c.result.linearAtLimit;
   Direction &d = self->pending_;
   d = Direction{};
-  d.record.iteration = iter;
+  d.record.iteration = iter + c.iterationOffset;
+  d.record.load = c.disc->load();
   d.record.linearIterations = its;
   const kernels::EigenFilter filter = c.disc->eigenFilter();
   d.record.filter = filter == kernels::EigenFilter::Abs ? 'a' : filter == kernels::EigenFilter::None ? 'n' : 'c';
   PetscCall(VecNorm(F, NORM_2, &d.record.residual));
   self->havePending_ = true;
 
+  PetscCall(self->filter_->repairDirection(c, d, X, Y, F, changed));
   const PetscInt halvingsBefore = c.result.safeguardHalvings;
   for (auto &step : self->steps_) {
     if (d.finalCorrection && !step->appliesToFinalCorrection()) continue;
@@ -279,7 +287,7 @@ PetscErrorCode NewtonSolver::convergenceTest(SNES snes, PetscInt it, PetscReal x
   }
   if (it > 0) {
     Vec x;
-    self->ctx_.result.newtonIterations = it;
+    self->ctx_.result.newtonIterations = it + self->ctx_.iterationOffset;
     PetscCall(SNESGetSolution(snes, &x));
     PetscCall(self->finishUpdate(x));
   }

@@ -26,6 +26,9 @@ PetscErrorCode readNewtonOptions(bool dynamic, const NewtonOptions *base, const 
   o->filter.wholeElement = scope == 1;
   if (o->filter.mode == EigenFilterMode::Adaptive)
     PetscCall(core::get(opt::psdAdaptiveTol, &o->filter.adaptiveTol, nullptr, at));
+  PetscBool exact = o->filter.exactNearSolution ? PETSC_TRUE : PETSC_FALSE;
+  if (o->filter.mode != EigenFilterMode::None) PetscCall(core::get(opt::newtonExactHessian, &exact, nullptr, at));
+  o->filter.exactNearSolution = exact && o->filter.mode != EigenFilterMode::None;
   PetscCall(core::get(opt::newtonSubspace, &o->subspace.size, nullptr, at));
   if (o->subspace.size > 0) {
     PetscCall(core::get(opt::newtonSubspaceMax, &o->subspace.maxCoefficient, nullptr, at));
@@ -35,6 +38,7 @@ PetscErrorCode readNewtonOptions(bool dynamic, const NewtonOptions *base, const 
   }
   PetscCall(core::get(opt::newtonRotation, &o->rotation.doublings, nullptr, at));
   PetscCall(core::get(opt::newtonForcing, &o->convergence.forcing, nullptr, at));
+  PetscCall(core::getChoice(opt::liftIncrements, &o->lift, nullptr, at));
   PetscBool guess = PETSC_FALSE;
   if (dynamic) PetscCall(core::get(opt::newtonInertiaGuess, &guess, nullptr, at));
   o->inertiaGuess = guess;

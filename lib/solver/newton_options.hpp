@@ -7,6 +7,7 @@
 namespace aries::solver {
 
 enum class EigenFilterMode { Clamp, Abs, Adaptive, None };
+enum class LiftMode { Auto, Always, Never };  // -lift_increments (lifted_increment.cpp)
 
 // ConvergenceCheck: -newton_tol, -newton_forcing.
 struct ConvergenceOptions {
@@ -20,6 +21,7 @@ struct FilterOptions {
   bool analyticEigensystem = true;
   bool wholeElement = false;  // -psd_scope element
   double adaptiveTol = 0.01;
+  bool exactNearSolution = false;  // -newton_exact_hessian: the unfiltered Hessian after full-length updates
 };
 
 // SubspaceStep: -newton_subspace, -newton_subspace_max.
@@ -44,6 +46,7 @@ struct NewtonOptions {
   SubspaceOptions subspace;
   RotationOptions rotation;
   SafeguardOptions safeguard;
+  LiftMode lift = LiftMode::Auto;  // -lift_increments: a load increment enters the first linear solves
   bool inertiaGuess = false;       // -newton_inertia_guess (backward Euler)
   bool rigidNearNullspace = true;  // -near_nullspace rigid|none
   PetscInt multigridMinDofs = 200000;  // -multigrid_min_dofs: static solves this large use CG + GAMG (-1: never)

@@ -8,10 +8,14 @@
 //                          (-newton_subspace, -newton_subspace_max)
 //   4. RotationalUpdate    rotational parts of the step follow the circle (-newton_rotation)
 //   5. HessianFilter       the element Hessians' eigenvalue filter; the adaptive one's curvature of the update and
-//                          its choice after it (-psd_projection, -psd_eigensystem, -psd_adaptive_tol)
+//                          its choice after it; the unfiltered system after a full-length update (-psd_projection,
+//                          -psd_eigensystem, -psd_adaptive_tol, -newton_exact_hessian)
 //   6. AlphaSafeguard      no step takes a guarded element's alpha below -alpha_min (paper Sec. 4.2)
 //
-// A direction the convergence check accepts is the step's final correction: only the steps that apply to one run
+// Before all of them the filter checks that an unfiltered system was positive definite (repairDirection: otherwise it
+// is solved again filtered). A step's increment of the prescribed motion is carried by the lifted updates before the
+// SNES iteration (lifted_increment.cpp), which the safeguard guards and the filter follows. A direction the
+// convergence check accepts is the step's final correction: only the steps that apply to one run
 // on it (the safeguard); one accepted by round-off is not applied, and nothing runs after the check. After each line
 // search every step may pull the accepted point back (checkPoint, the safeguard); after each update every step
 // sees its length (finishUpdate: the subspace step's limit, the adaptive filter's choice).
@@ -28,6 +32,13 @@
 
 namespace aries::solver {
 
+// What a Newton solver carries from one solve to the next: the Hessian filter's back-off after failed unfiltered
+// systems (-newton_exact_hessian). Checkpoints keep it (io/checkpoint.hpp).
+struct NewtonMemory {
+  int filterBackoff = 0;  // solves kept filtered after the next failure / 2 (0: none failed lately)
+  int filterSkip = 0;     // solves left that keep the filter
+};
+
 // One Newton iteration, for -newton_history and the convergence charts.
 struct IterationRecord {
   PetscInt iteration = 0;
@@ -41,6 +52,8 @@ struct IterationRecord {
   bool accelerated = false; // the update used the subspace step
   double rotation = 0.0;    // the rotational update's angle scale (1, 2, 4, ...; 0: plain direction)
   int level = 0;            // nested iteration: 0 the run's mesh, k the k-th -coarse_mesh
+  double load = 0.0;        // the load parameter of the state the row's update reached (its target, once reached)
+  bool lifted = false;      // a lifted update: the supports moved with it (lifted_increment.cpp)
 };
 
 struct NewtonResult {
@@ -73,6 +86,7 @@ struct NewtonContext {
   bool dynamic = false;
   double dt = 0.0;
   double stepTol = 0.0;   // the converged step's inf-norm
+  PetscInt iterationOffset = 0;  // updates of this solve before the SNES iteration (lifted ones): added to its count
   bool psdHessian = true; // the element Hessians are filtered to be PSD (the backward-Euler step bound needs it)
   PetscLogStage assemblyStage = -1;
   double assemblyStart = 0.0;
@@ -128,6 +142,15 @@ class RigidMotionRemoval final : public NewtonStep {
   PetscErrorCode shapeDirection(NewtonContext &ctx, Direction &d, Vec X, Vec Y, Vec F, PetscBool *changed) override;
 };
 
+// Did the linear solve solve the Newton system? The trust-region CG variants (-ksp_type nash, stcg, gltr) report a
+// truncated direction as converged (stopped at negative curvature or at the trust radius): a short direction from
+// them says nothing about the distance to equilibrium (NASH stopped at its first iteration returns p = 0, which
+// looked like a converged step), so it may still be searched along but never certifies convergence.
+inline bool linearSolveSolved(KSPConvergedReason reason) {
+  return reason > 0 && reason != KSP_CONVERGED_CG_NEG_CURVE && reason != KSP_CONVERGED_CG_CONSTRAINED &&
+         reason != KSP_CONVERGED_STEP_LENGTH;
+}
+
 // 2. Is the state converged on the Newton direction? Also the convergence test at each iterate (backward Euler's
 // step bound, certified without a linear solve) and the inexact linear solve's stop.
 class ConvergenceCheck final : public NewtonStep {
@@ -138,6 +161,7 @@ class ConvergenceCheck final : public NewtonStep {
   PetscErrorCode shapeDirection(NewtonContext &ctx, Direction &d, Vec X, Vec Y, Vec F, PetscBool *changed) override;
   // At iterate `it` whose residual g has norm fnorm: converged by the step bound? (sets *reason)
   PetscErrorCode testIterate(NewtonContext &ctx, PetscInt it, PetscReal fnorm, SNESConvergedReason *reason);
+  PetscReal baseLinearRtol() const { return baseRtol_; }  // -ksp_rtol as set up (a certifying solve's)
 
  private:
   static PetscErrorCode linearTest(KSP, PetscInt, PetscReal, KSPConvergedReason *, void *);
@@ -181,15 +205,36 @@ class RotationalUpdate final : public NewtonStep {
 
 // 5. The element Hessians' eigenvalue filter; adaptive: clamp or abs per iteration by the trust-region ratio of the
 // previous update (Chen et al. 2024).
+// With -newton_exact_hessian, after a full-length update the next system is assembled unfiltered (the true Newton
+// step, quadratic near the solution); an unfiltered system CG cannot solve as positive definite (negative curvature, a
+// failed solve, or a direction that does not descend) is solved again with the filter before any strategy sees the
+// direction (repairDirection), and the rest of the solve keeps the filter, as after an unfiltered step the line search
+// or the safeguard had to shorten. Where the energy is not convex near the
+// solutions (an inside-out recovery's tail) every attempt would fail: after a failed solve the next 1, 2, 4, ... 64
+// solves (consecutive failures double it) keep the filter, and a solve whose unfiltered systems all were definite
+// resets that back-off.
 class HessianFilter final : public NewtonStep {
  public:
   explicit HessianFilter(const FilterOptions &o) : opts_(o) {}
   PetscErrorCode beginSolve(NewtonContext &ctx) override;
   PetscErrorCode shapeDirection(NewtonContext &ctx, Direction &d, Vec X, Vec Y, Vec F, PetscBool *changed) override;
   PetscErrorCode finishUpdate(NewtonContext &ctx, const Direction &d, Vec xNew, double lambda) override;
+  // Before the strategies run: an unfiltered system that was not positive definite is solved again filtered.
+  PetscErrorCode repairDirection(NewtonContext &ctx, Direction &d, Vec X, Vec Y, Vec F, PetscBool *changed);
+  // What the filter carries from one solve to the next (the back-off), as the next solve would start with it: a
+  // checkpoint keeps it, so a restarted run takes the same steps as an uninterrupted one.
+  NewtonMemory memory() const;
+  void restore(const NewtonMemory &m);
 
  private:
+  PetscErrorCode giveUp(NewtonContext &ctx);
   FilterOptions opts_;
+  bool exactNow_ = false;  // this iteration's system is the unfiltered one
+  bool gaveUp_ = false;    // an unfiltered system of this solve was indefinite: the filter for the rest of it
+  bool usedExact_ = false; // this solve assembled an unfiltered system
+  int backoff_ = 0;        // solves to keep the filter after the next failure / 2 (0: none failed lately)
+  int skip_ = 0;           // solves left that keep the filter
+  kernels::EigenFilter filtered_ = kernels::EigenFilter::Clamp;  // the filter an exact iteration falls back to
 };
 
 // 6. The alpha safeguard (paper Sec. 4.2): the direction is halved until the full step keeps every guarded element's

@@ -153,7 +153,7 @@ PetscErrorCode Simulation::applyInitialState() {
 }
 
 PetscErrorCode Simulation::resume(const std::vector<double> &positions, const std::vector<double> &velocities,
-                                  PetscInt completedStep, double time, double load) {
+                                  PetscInt completedStep, double time, double load, const NewtonMemory &memory) {
   PetscFunctionBeginUser;
   const int R = static_cast<int>(disc_->dofsPerVertex());
   PetscInt lo;
@@ -176,6 +176,7 @@ PetscErrorCode Simulation::resume(const std::vector<double> &positions, const st
   PetscCall(disc_->setStep(resumed));
   completedSteps_ = completedStep;
   time_ = time;
+  newton_.restore(memory);
   PetscFunctionReturn(0);
 }
 
@@ -211,8 +212,6 @@ PetscErrorCode Simulation::startFromPrediction() {
   PetscFunctionReturn(0);
 }
 
-// Newton solves from the current state to the prescribed load `loadTarget`, halving the load increment while
-// moving the Dirichlet vertices would violate the alpha safeguard.
 // Moves the prescribed motion of the step being solved for to load parameter s.
 PetscErrorCode Simulation::setLoad(double s) {
   PetscFunctionBeginUser;
@@ -222,11 +221,39 @@ PetscErrorCode Simulation::setLoad(double s) {
   PetscFunctionReturn(0);
 }
 
+// Newton solves from the current state to the prescribed load `loadTarget`. With -lift_increments (the default) the
+// increment enters the solve (NewtonSolver::solve with a target, lifted_increment.cpp): one solve per step unless the
+// safeguard kept shortening its lifted updates (the rest of the increment is then another solve from the load reached,
+// a load sub-step). Where no lifted update can be accepted at all, and without -lift_increments, the supports move
+// alone: the increment is halved until moving them keeps every alpha acceptable, and each part is a Newton solve.
 PetscErrorCode Simulation::solveToLoad(double loadTarget, NewtonResult *acc, bool *ok, std::string *reason) {
   PetscFunctionBeginUser;
   *ok = true;
   for (PetscInt sub = 0;; ++sub) {
     const double s0 = disc_->load();
+    if (sub >= kMaxLoadSubsteps) {  // the motion is not followable within the safeguard
+      *ok = false;
+      *reason = "safeguard_load";
+      PetscFunctionReturn(0);
+    }
+    if (s0 != loadTarget) {
+      NewtonResult r;
+      bool advanced = false;
+      PetscCall(PetscLogStagePush(solveStage_));
+      PetscCall(newton_.solve(x_, loadTarget, &r, &advanced));
+      PetscCall(PetscLogStagePop());
+      *acc += r;
+      if (advanced) {
+        *reason = reasonName(*acc);
+        if (!r.converged()) {
+          *ok = false;
+          PetscFunctionReturn(0);
+        }
+        if (disc_->load() == loadTarget) break;
+        ++loadSubsteps_;
+        continue;
+      }
+    }
     double sTry = loadTarget;
     if (sTry != s0) {
       std::vector<double> ref;
@@ -237,9 +264,9 @@ PetscErrorCode Simulation::solveToLoad(double loadTarget, NewtonResult *acc, boo
         PetscCall(setLoad(sTry));
         PetscCall(newton_.alphaAcceptable(x_, ref, &acceptable));
       }
-      // No increment of the prescribed motion keeps every alpha acceptable (or the sub-steps do not finish):
-      // the boundary motion cannot be followed within the safeguard.
-      if (!acceptable || sub >= kMaxLoadSubsteps) {
+      // No increment of the prescribed motion keeps every alpha acceptable: the boundary motion cannot be followed
+      // within the safeguard.
+      if (!acceptable) {
         PetscCall(setLoad(s0));
         *ok = false;
         *reason = "safeguard_load";

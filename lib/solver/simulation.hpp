@@ -2,9 +2,11 @@
 // (-integrator beuler), each step a projected-Newton solve (newton.hpp).
 //
 // Moving boundaries: the prescribed motion is ramped with the load parameter s = min(1, step / -bc_ramp_steps).
-// Dirichlet values are eliminated, so moving them displaces the boundary vertices before any line search; the
-// alpha safeguard therefore also guards the load increment: if moving the boundary would drop an element's alpha
-// below -alpha_min, the increment is halved and the step is solved in sub-increments.
+// Dirichlet values are eliminated from the unknowns; a step's increment of them enters the Newton solve lifted
+// (-lift_increments, solver/lifted_increment.cpp): the interior moves with its supports in the first linear solve, and
+// the alpha safeguard shortens the combined update. Where it cannot (or with -lift_increments never) the supports move
+// alone, before any line search, and the safeguard guards that move: if it would drop an element's alpha below
+// -alpha_min, the increment is halved and the step is solved in sub-increments.
 //
 // Failure policy (-on_failure): stop (default; the run ends with exit code 3 after writing the stats row and the
 // last accepted state), halve_dt (retry the step as two half steps, up to -max_step_halvings times), continue (keep
@@ -99,11 +101,14 @@ class Simulation {
   PetscInt completedSteps() const { return completedSteps_; }
   double time() const { return time_; }
 
+  // What the Newton solver carries from step to step (checkpointed).
+  NewtonMemory newtonMemory() const { return newton_.memory(); }
+
   // Continue from a saved state (checkpoint): positions and velocities of this rank's vertices by local vertex index
-  // (v - vStart, 3 values each; only the owned free components are read), the last completed step, its time and the
-  // load parameter. Collective.
+  // (v - vStart, 3 values each; only the owned free components are read), the last completed step, its time, the
+  // load parameter and the Newton solver's memory. Collective.
   PetscErrorCode resume(const std::vector<double> &positions, const std::vector<double> &velocities,
-                        PetscInt completedStep, double time, double load);
+                        PetscInt completedStep, double time, double load, const NewtonMemory &memory);
 
  private:
   PetscErrorCode applyInitialState();

@@ -110,6 +110,12 @@ inline constexpr OptionDecl psdAdaptiveTol =
     realOption("-psd_adaptive_tol", "X", "adaptive filter: |rho - 1| below X selects clamp, else abs")
         .byDefault("0.01")
         .above(0);
+inline constexpr OptionDecl newtonExactHessian =
+    flagOption("-newton_exact_hessian",
+               "after a full-length update the next Newton system uses the unfiltered Hessian (the true Newton step) "
+               "while CG finds it positive definite; at negative curvature that iteration is solved again with the "
+               "filter, which the solve then keeps (see Hessian filter below)")
+        .byDefault("true");
 inline constexpr OptionDecl newtonSubspace =
     intOption("-newton_subspace", "M",
               "subspace step: minimize the exact quadratic model over the Newton direction and the last M updates "
@@ -137,6 +143,12 @@ inline constexpr OptionDecl newtonForcing =
         .byDefault("0")
         .atLeast(0)
         .below(1);
+inline constexpr OptionDecl liftIncrements =
+    choiceOption("-lift_increments", "auto|always|never",
+                 "a step's increment of the prescribed motion enters Newton's first linear solve, the interior moving "
+                 "with its supports; auto: unless inertia holds the interior (see Moving supports below); never: the "
+                 "supports move alone first, the increment halved until the alpha safeguard accepts it")
+        .byDefault("auto");
 inline constexpr OptionDecl newtonInertiaGuess =
     flagOption("-newton_inertia_guess",
                "beuler: the linear solve starts from the inertia-only step a M^-1 g (never worse than zero in the "
@@ -156,7 +168,9 @@ inline constexpr OptionDecl multigridMinDofs =
         .atLeast(-1);
 
 inline constexpr const OptionDecl *kNewtonOptions[] = {
-    &newtonTol,      &alphaMin,          &psdProjection,  &psdEigensystem,     &psdScope,     &psdAdaptiveTol, &newtonSubspace,
-    &newtonSubspaceMax, &newtonRotation, &newtonForcing,  &newtonInertiaGuess, &nearNullspace, &multigridMinDofs};
+    &newtonTol,      &alphaMin,          &psdProjection,  &psdEigensystem,     &psdScope,     &psdAdaptiveTol,
+    &newtonExactHessian, &newtonSubspace,
+    &newtonSubspaceMax, &newtonRotation, &newtonForcing,  &liftIncrements, &newtonInertiaGuess, &nearNullspace,
+    &multigridMinDofs};
 
 }  // namespace aries::solver::opt

@@ -5,51 +5,6 @@
 
 namespace aries::fem {
 
-// A hinge couples the two vertices opposite an interior edge, which share no triangle, so the default FEM adjacency
-// (the closure of the star) misses them; here adj(p) also has the triangles across the star's edges.
-PetscErrorCode hingeAdjacency(DM dm, PetscInt p, PetscInt *adjSize, PetscInt adj[], void *) {
-  const PetscInt capacity = *adjSize;
-  PetscInt n = 0, cStart, cEnd, nstar = 0, *star = nullptr;
-  PetscFunctionBeginUser;
-  const auto add = [&](PetscInt q) -> PetscErrorCode {
-    PetscFunctionBeginUser;
-    for (PetscInt i = 0; i < n; ++i)
-      if (adj[i] == q) PetscFunctionReturn(0);
-    PetscCheck(n < capacity, PETSC_COMM_SELF, PETSC_ERR_PLIB, "hinge adjacency of point %" PetscInt_FMT
-               " exceeds DMPlex's bound of %" PetscInt_FMT " points", p, capacity);
-    adj[n++] = q;
-    PetscFunctionReturn(0);
-  };
-  const auto addClosure = [&](PetscInt cell) -> PetscErrorCode {
-    PetscInt nclosure = 0, *closure = nullptr;
-    PetscFunctionBeginUser;
-    PetscCall(DMPlexGetTransitiveClosure(dm, cell, PETSC_TRUE, &nclosure, &closure));
-    for (PetscInt i = 0; i < nclosure; ++i) PetscCall(add(closure[2 * i]));
-    PetscCall(DMPlexRestoreTransitiveClosure(dm, cell, PETSC_TRUE, &nclosure, &closure));
-    PetscFunctionReturn(0);
-  };
-  PetscCall(DMPlexGetHeightStratum(dm, 0, &cStart, &cEnd));
-  PetscCall(DMPlexGetTransitiveClosure(dm, p, PETSC_FALSE, &nstar, &star));
-  for (PetscInt i = 0; i < nstar; ++i) {
-    const PetscInt t = star[2 * i];
-    if (t < cStart || t >= cEnd) continue;
-    PetscInt nedges;
-    const PetscInt *edges;
-    PetscCall(DMPlexGetConeSize(dm, t, &nedges));
-    PetscCall(DMPlexGetCone(dm, t, &edges));
-    for (PetscInt e = 0; e < nedges; ++e) {
-      PetscInt nsupp;
-      const PetscInt *supp;
-      PetscCall(DMPlexGetSupportSize(dm, edges[e], &nsupp));
-      PetscCall(DMPlexGetSupport(dm, edges[e], &supp));
-      for (PetscInt k = 0; k < nsupp; ++k) PetscCall(addClosure(supp[k]));
-    }
-  }
-  PetscCall(DMPlexRestoreTransitiveClosure(dm, p, PETSC_FALSE, &nstar, &star));
-  *adjSize = n;
-  PetscFunctionReturn(0);
-}
-
 PetscErrorCode BendingHinges::build(DM dm, PetscInt vStart,
                                     const std::function<PetscInt(PetscInt, PetscInt, PetscInt)> &opposite) {
   PetscInt eStart, eEnd, nleaves;
@@ -80,7 +35,6 @@ PetscErrorCode BendingHinges::build(DM dm, PetscInt vStart,
                                    verts_[h.vertex[3]].rest);
     hinges_.push_back(h);
   }
-  PetscCall(DMPlexSetAdjacencyUser(dm, hingeAdjacency, nullptr));
   PetscFunctionReturn(0);
 }
 
@@ -109,6 +63,7 @@ PetscErrorCode BendingHinges::addHessian(const PetscScalar *x, const HessianAsse
   Eigen::Vector3d xs[4];
   PetscFunctionBeginUser;
   for (const Hinge &h : hinges_) {
+    if (productSkips<4, 3>(verts_, h.vertex, how)) continue;
     positions(h, x, xs);
     const auto d = kernels::quadraticBending(h.rest, xs, stiffness_, kernels::Order::Hessian);
     const Eigen::Matrix<double, 12, 12, Eigen::RowMajor> K = d.hess;

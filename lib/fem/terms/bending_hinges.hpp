@@ -1,6 +1,6 @@
 // Cloth bending (-bending k): the quadratic bending energy of every interior edge of a surface mesh in 3D
 // (kernels/quadratic_bending.hpp), one hinge per edge owned by this rank: the edge (v0, v1) and the two vertices
-// opposite it (v2, v3). The hinge couplings are preallocated by hingeAdjacency.
+// opposite it (v2, v3). Its couplings are preallocated as every term's are (Discretization::preallocateHessian).
 #pragma once
 
 #include "fem/terms/term.hpp"
@@ -41,9 +41,5 @@ class BendingHinges final : public Term {
   double stiffness_;
   std::vector<Hinge> hinges_;
 };
-
-// Matrix adjacency of a surface mesh with bending hinges (DMPlexSetAdjacencyUser): the closure of every triangle in
-// the star of p and of the triangles across their edges, so DMCreateMatrix preallocates every hinge coupling.
-PetscErrorCode hingeAdjacency(DM dm, PetscInt p, PetscInt *adjSize, PetscInt adj[], void *);
 
 }  // namespace aries::fem

@@ -47,7 +47,7 @@ PetscErrorCode ElasticCells<R, C, NV>::addHessian(const PetscScalar *x, const He
   Eigen::Matrix<double, NDOF, NDOF, Eigen::RowMajor> K;
   for (size_t c = 0; c < cells_.size(); ++c) {
     const Cell &cell = cells_[c];
-    if (!cell.owned) continue;
+    if (!cell.owned || productSkips<NV, R>(verts_, cell.vertex, how)) continue;
     K.setZero();
     for (int q = 0; q < NQ; ++q) {  // filtered per point, or summed unfiltered and the element filtered below
       const auto d = how.wholeElement ? energies::evaluateEnergy<R, C>(materialOf(c), dataOf(c),

@@ -136,6 +136,7 @@ void FollowerPressure::addGradient(const PetscScalar *x, PetscScalar *g) const {
 PetscErrorCode FollowerPressure::addHessian(const PetscScalar *x, const HessianAssembly &how, Mat J) const {
   PetscFunctionBeginUser;
   for (const Triangle &t : triangles_) {
+    if (productSkips<3, 3>(verts_, t.vertex, how)) continue;
     const auto d = kernels::triangleVolume(position(t.vertex[0], x), position(t.vertex[1], x), position(t.vertex[2], x),
                                            center_[t.set], kernels::Order::Hessian);
     const kernels::Mat<9, 9> H = kernels::filterEigenvalues<9>((s_ * pressure_[t.set]) * d.hess, how.filter.filter);

@@ -48,7 +48,7 @@ void InertiaGravity<R>::addGradient(const PetscScalar *x, PetscScalar *g) const 
 }
 
 template <int R>
-PetscErrorCode InertiaGravity<R>::addHessian(const PetscScalar *, const HessianAssembly &, Mat J) const {
+PetscErrorCode InertiaGravity<R>::addHessian(const PetscScalar *, const HessianAssembly &how, Mat J) const {
   PetscFunctionBeginUser;
   if (!(dt_ > 0.0)) PetscFunctionReturn(0);  // gravity is linear
   for (size_t v = 0; v < verts_.size(); ++v) {
@@ -58,7 +58,8 @@ PetscErrorCode InertiaGravity<R>::addHessian(const PetscScalar *, const HessianA
       const PetscInt row = vi.row(i);
       if (row < 0) continue;
       const PetscScalar m = mass_[v] / (dt_ * dt_);
-      PetscCall(MatSetValues(J, 1, &row, 1, &row, &m, ADD_VALUES));
+      if (how.product()) how.productOut[vi.loc + i] += m * how.productIn[vi.loc + i];  // diagonal: free dofs only
+      else PetscCall(MatSetValues(J, 1, &row, 1, &row, &m, ADD_VALUES));
     }
   }
   PetscFunctionReturn(0);

@@ -97,7 +97,7 @@ void ObstacleContact::addGradient(const PetscScalar *x, PetscScalar *g) const {
   }
 }
 
-PetscErrorCode ObstacleContact::addHessian(const PetscScalar *x, const HessianAssembly &, Mat J) const {
+PetscErrorCode ObstacleContact::addHessian(const PetscScalar *x, const HessianAssembly &how, Mat J) const {
   PetscFunctionBeginUser;
   for (const auto &vi : verts_) {
     if (!vi.ownedFree()) continue;
@@ -105,6 +105,11 @@ PetscErrorCode ObstacleContact::addHessian(const PetscScalar *x, const HessianAs
     Eigen::Matrix<double, 3, 3, Eigen::RowMajor> H = Eigen::Matrix3d::Zero();
     for (const auto &o : obstacles_) H += at(xv, o, kernels::Order::Hessian).hess;
     if (H.isZero(0.0)) continue;
+    if (how.product()) {  // the vertex's own 3 x 3 block: couples a free component to its held ones (a roller)
+      const Eigen::Vector3d y = H * Eigen::Map<const Eigen::Vector3d>(how.productIn + vi.loc);
+      for (int k = 0; k < 3; ++k) how.productOut[vi.loc + k] += y[k];
+      continue;
+    }
     const PetscInt rows[3] = {vi.row(0), vi.row(1), vi.row(2)};
     PetscCall(MatSetValues(J, 3, rows, 3, rows, H.data(), ADD_VALUES));
   }

@@ -21,6 +21,12 @@ struct HessianAssembly {
   energies::HessianFilter filter;
   bool blocked = true;
   bool wholeElement = false;  // filter each element's whole Hessian instead of each point's (-psd_scope element)
+  // Product mode (Discretization::hessianProduct): no matrix; each element or vertex matrix K (the same filtered one)
+  // adds K d into y, local layouts, over every dof of its vertices, prescribed ones included: the rows of the free
+  // dofs then hold H_ff d_f + H_fd d_d (the lifted Dirichlet increment's coupling when d is zero at the free dofs).
+  const PetscScalar *productIn = nullptr;
+  PetscScalar *productOut = nullptr;
+  bool product() const { return productOut != nullptr; }
 };
 
 // The K x K Gram matrix d_k^T H d_l of at most kMaxGramDirections directions, accumulated term by term.
@@ -47,11 +53,21 @@ class Term {
 
 // Adds an element matrix K (row-major, (NV R) x (NV R), R dofs per vertex of the element's NV local vertices) into J:
 // as R x R blocks into BAIJ, or entry by entry into AIJ; prescribed dofs are skipped (negative rows).
+// In product mode (how.product()) it adds K d into y instead, over all of the element's dofs.
 template <int NV, int R, class Vertices>
 inline PetscErrorCode addElementMatrix(const VertexTable &verts, const Vertices &vertex, const double *K,
                                        const HessianAssembly &how, Mat J) {
   PetscFunctionBeginUser;
-  if (how.blocked) {  // every vertex all free or all held (a partly held vertex makes the matrix AIJ)
+  if (how.product()) {
+    for (int v = 0; v < NV; ++v)
+      for (int i = 0; i < R; ++i) {
+        const double *row = K + (v * R + i) * (NV * R);
+        double sum = 0.0;
+        for (int w = 0; w < NV; ++w)
+          for (int j = 0; j < R; ++j) sum += row[w * R + j] * how.productIn[verts[vertex[w]].loc + j];
+        how.productOut[verts[vertex[v]].loc + i] += sum;
+      }
+  } else if (how.blocked) {  // every vertex all free or all held (a partly held vertex makes the matrix AIJ)
     PetscInt rows[NV];
     for (int v = 0; v < NV; ++v) {
       const VertexInfo &vi = verts[vertex[v]];
@@ -65,6 +81,17 @@ inline PetscErrorCode addElementMatrix(const VertexTable &verts, const Vertices 
     PetscCall(MatSetValues(J, NV * R, rows, NV * R, rows, K, ADD_VALUES));
   }
   PetscFunctionReturn(0);
+}
+
+// Product mode: an element none of whose dofs d touches adds nothing (K d = 0), so its matrix need not be evaluated
+// (the lifted increment's d lives on the supports: only the elements next to them count).
+template <int NV, int R, class Vertices>
+inline bool productSkips(const VertexTable &verts, const Vertices &vertex, const HessianAssembly &how) {
+  if (!how.product()) return false;
+  for (int v = 0; v < NV; ++v)
+    for (int i = 0; i < R; ++i)
+      if (how.productIn[verts[vertex[v]].loc + i] != 0.0) return false;
+  return true;
 }
 
 // Accumulates sum_kl a_k^T M a_l for a term's pieces a_k of the K directions (the columns of A).
