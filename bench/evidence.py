@@ -90,7 +90,9 @@ MODES = {
                        ("crushed armadillo, barrier", "armadillo_crush_barrier", ("armadillo", "test"), 20, []),
                        ("cloth drop, ours (Eq. 53)", "cloth_drop_ours", ("cloth", "test"), 60, [])],
         newton_static=["armadillo", "cube", "cylinder", "triceratops", "hand", "camel"], newton_static_size="test",
-        newton_seeds=[1, 2, 3], newton_chart=("bunny", "test"), newton_timeout=600),
+        newton_seeds=[1, 2, 3], newton_chart=("bunny", "test"), newton_timeout=600,
+        # Section 8: the compressed box against DOLFINx (bench/peer.py), these sizes and rank counts
+        peer_sizes=["s10k", "s40k", "default"], peer_ranks=[2], peer_timeout=1800),
     "full": dict(
         acc_tols=[1e-1, 3e-2, 1e-2, 3e-3, 1e-3, 1e-4, 1e-5], acc_ref_tol=1e-8,
         cyl_meshes=["test", "default"], cyl_steps=10, cyl_big_methods=None, cyl_big_tols=None,
@@ -118,7 +120,8 @@ MODES = {
                        ("cloth drop, ours (Eq. 53)", "cloth_drop_ours", ("cloth", "default"), 100, []),
                        ("cloth drop, Baraff-Witkin (Kim 2020)", "cloth_drop_bw", ("cloth", "default"), 100, [])],
         newton_static=["armadillo", "cube", "cylinder", "triceratops", "hand", "camel"], newton_static_size="test",
-        newton_seeds=[1, 2, 3], newton_chart=("bunny", "default"), newton_timeout=4 * 3600),
+        newton_seeds=[1, 2, 3], newton_chart=("bunny", "default"), newton_timeout=4 * 3600,
+        peer_sizes=["s10k", "s40k", "default", "s400k", "s1m"], peer_ranks=[1, 2], peer_timeout=3600),
 }
 
 SOLIDS = [  # label, options, chart style
@@ -1167,6 +1170,79 @@ def section_kernels(cfg):
 SUMMARY = {}
 
 
+def section_peer(cfg):
+    """8. The compressed box against DOLFINx on the same PETSc (bench/peer.py: its runs live in out/peer/ and a run
+    with the same command line is read back there, whatever REUSE says)."""
+    import peer
+    out = ["## 8. Peer: aries vs DOLFINx, a box compressed by its supports\n",
+           "From `bench/peer.py` (its full report, every size and both rank counts it was run with: docs/peer.md). "
+           "Mode `%s`: %s tets, %s rank%s. %s\n" % (
+               cfg["mode"], ", ".join(cfg["peer_sizes"]), "/".join(str(n) for n in cfg["peer_ranks"]),
+               "s" if max(cfg["peer_ranks"]) > 1 else "", peer.PROBLEM)]
+    metas = peer.run_all(cfg["peer_sizes"], cfg["peer_ranks"], ["default", "gamg", "jacobi", "before"],
+                         ["gamg", "jacobi"], ARIES, timeout=cfg["peer_timeout"])
+    find, sizes, cells = peer.index(metas)
+    failed = [m for m in metas if m.get("exit") != 0]
+    for m in failed:
+        out.append("- **failed:** %s %s, %s, %d ranks (exit %s)" % (m["code"], m["variant"], m["size"], m["ranks"],
+                                                                   m.get("exit")))
+    for n in cfg["peer_ranks"]:
+        out += ["### %d rank%s\n" % (n, "s" if n > 1 else "")] + peer.rank_table(find, sizes, cells, n) + [""]
+    out += peer.findings(find, sizes, cells, cfg["peer_ranks"]) + ["", peer.DISTANCE, ""]
+    out += peer.distance_table(find, sizes, cells, cfg["peer_ranks"]) + [""]
+    png = os.path.join(IMG, "peer_section.png")
+    peer.chart(find, sizes, cells, max(cfg["peer_ranks"]), png)
+    out += ["![peer: solves and time against mesh size](%s/%s)\n" % (IMG_REL, os.path.basename(png))]
+    if find:
+        n = max(cfg["peer_ranks"])
+        big = sizes[-1]
+        a_, d_ = find.get(("aries", "default", big, n)), find.get(("dolfinx", "gamg", big, n))
+        if a_ and d_:
+            SUMMARY["peer"] = (cells[big], n, a_["linear_solves"], d_["newton"], a_["total_s"] / d_["total_s"])
+    return out
+
+
+def split_sections(text):
+    """A report's text -> (head: the lines before section 1, {k: the lines of section k})."""
+    head, parts, k = [], {}, None
+    for line in text.split("\n"):
+        m = re.match(r"## (\d+)\. ", line)
+        if m:
+            k = int(m.group(1))
+            parts[k] = []
+        (parts[k] if k else head).append(line)
+    return head, parts
+
+
+def keep_sections(lines, chosen, mode, timing):
+    """--keep: the new sections replace their old versions in the existing report; every other section and the header
+    stay as that report's run made them, and the header says which sections this run re-rendered, when."""
+    if not os.path.exists(RESULTS):
+        sys.exit("evidence.py: --keep needs an existing %s" % RESULTS)
+    old_head, old = split_sections(open(RESULTS).read().rstrip("\n"))
+    new_head, new = split_sections("\n".join(lines))
+    # the summary bullets of the sections re-rendered now replace theirs; the rest of the old header stays
+    fresh = [l for l in new_head if l.startswith("- ") and l not in old_head and "(section 8)" in l]
+    head = [l for l in old_head if not (l.startswith("- ") and "(section 8)" in l and fresh)]
+    note = ("**Partially re-rendered:** section%s %s by `SECTIONS=%s KEEP=1 bench/run %s` on %s UTC (%s, commit %s); "
+            "the other sections are from the run the line above names.\n" % (
+                "s" if len(chosen) > 1 else "", ", ".join(str(k) for k in chosen),
+                ",".join(str(k) for k in chosen), mode, datetime.datetime.utcnow().strftime("%Y-%m-%d %H:%M"),
+                "; ".join(timing), COMMIT))
+    head = [l for l in head if not l.startswith("**Partially re-rendered:**")]
+    at = next(i for i, l in enumerate(head) if l.startswith("Generated by")) + 1
+    head = head[:at] + ["", note.rstrip("\n")] + head[at:]
+    if fresh:
+        cut = max(i for i, l in enumerate(head) if l.startswith("- ")) + 1
+        head = head[:cut] + fresh + head[cut:]
+    merged = list(head)
+    for k in sorted(set(old) | set(new)):
+        if merged and merged[-1].strip():
+            merged.append("")
+        merged += new[k] if k in chosen and k in new else old.get(k, new.get(k, []))
+    return merged
+
+
 def reuse_note():
     if not REUSED:
         return ""
@@ -1183,7 +1259,9 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("mode", choices=list(MODES))
     ap.add_argument("--build", default=os.path.join(ROOT, "build-bench"))
-    ap.add_argument("--sections", default="1,2,3,4,5,6,7")
+    ap.add_argument("--sections", default="1,2,3,4,5,6,7,8")
+    ap.add_argument("--keep", action="store_true",
+                    help="keep the sections not run (and the header) from the existing report: re-render only --sections")
     ap.add_argument("--reuse", action="store_true",
                     help="read back finished runs with the same command line instead of running them again")
     a = ap.parse_args()
@@ -1214,7 +1292,7 @@ def main():
                            capture_output=True, text=True).stdout.strip()
     t0 = time.monotonic()
     sections = {1: section_speed_accuracy, 2: section_stability, 3: section_solvers, 4: section_scaling,
-                5: section_kernels, 6: section_newton, 7: section_verification}
+                5: section_kernels, 6: section_newton, 7: section_verification, 8: section_peer}
     chosen = [int(s) for s in a.sections.split(",")]
     body, timing = [], []
     for k in sorted(sections):
@@ -1229,7 +1307,7 @@ def main():
     mem = open("/proc/meminfo").readline().split()[1]
     s1 = SUMMARY["scaling"][1] if "scaling" in SUMMARY else None
     s2 = SUMMARY["scaling"][2] if "scaling" in SUMMARY else None
-    head = ["# aries: evidence (speed, accuracy, stability, solvers, scaling, kernels, Newton, verification)\n",
+    head = ["# aries: evidence (speed, accuracy, stability, solvers, scaling, kernels, Newton, verification, peer)\n",
             "Generated by `bench/run %s` on %s UTC in %.1f min (%s). **Do not edit by hand**: every number below "
             "comes from that run (the paper's numbers from bench/scenes.py).\n" % (
                 a.mode, datetime.datetime.utcnow().strftime("%Y-%m-%d %H:%M"), (time.monotonic() - t0) / 60,
@@ -1264,7 +1342,14 @@ def main():
                         "{:,}".format(cells_n), res[1]["t"] / res[2]["t"], 100 * res[1]["frac"], 100 * res[2]["frac"],
                         " / ".join("%.0f" % (k / 1024) for k in res[2]["rss"]),
                         sum(res[2]["rss"]) * 1024 / max(res[2]["n"], 1)))
+    if "peer" in SUMMARY:
+        cells_n, n, solves, newton, ratio = SUMMARY["peer"]
+        summ.append("- Box compressed 10%% by its supports, %s tets, %d ranks, against DOLFINx (same PETSc, CG + GAMG): "
+                    "%d linear solves against its %d Newton iterations, %.2fx its wall time end to end (section 8)." % (
+                        "{:,}".format(cells_n), n, solves, newton, ratio))
     lines = [h for h in head if h] + summ + [""] + body  # no reuse note: no empty line
+    if a.keep:
+        lines = keep_sections(lines, chosen, a.mode, timing)
     with open(RESULTS + ".tmp", "w") as fh:
         fh.write("\n".join(lines) + "\n")
     os.replace(RESULTS + ".tmp", RESULTS)
