@@ -9,7 +9,7 @@ same build with -lift_increments never, which moves the supports alone as aries 
 default build/aries), 2 MPI ranks, and keeps every run's stats, Newton history, log and final state in
 out/newton_work/ (a run whose directory holds the same command line and a finished result is read back, not run
 again). The filter group runs the after build with each element Hessian filter (-psd_projection clamp, abs, adaptive,
-none). `report` writes the tables: steps converged, Newton updates, linear solves and PCG iterations per step, seconds
+none) and with the default filter but -newton_exact_hessian false. `report` writes the tables: steps converged, Newton updates, linear solves and PCG iterations per step, seconds
 per step (averages over every step of a run, as the paper's tables), the load sub-steps, and how far the after state
 is from the before state at the end (the largest vertex distance over the Newton tolerance of the run: below 1, the
 two builds agree within what the tolerance certifies).
@@ -69,7 +69,11 @@ SCENES = {
     "interaction, tets (Fig. 13)": ("bunny_interact", ("bunny", "default"), [], "interaction"),
     "interaction, hexahedra (Fig. 13)": ("bunny_interact", ("bunny", "hexmid"), [], "interaction"),
 }
-FILTERS = ["clamp", "abs", "adaptive", "none"]
+# the filter study's variants of the after build: each filter (with -newton_exact_hessian, the default), and the
+# default filter without the exact Hessian near the solution
+FILTERS = {"clamp": ["-psd_projection", "clamp"], "abs": ["-psd_projection", "abs"],
+           "adaptive": ["-psd_projection", "adaptive"], "none": ["-psd_projection", "none"],
+           "default, -newton_exact_hessian false": ["-newton_exact_hessian", "false"]}
 # the filter study: the scenes whose defaults it decides (static: abs, backward Euler: clamp)
 FILTER_SCENES = ["cylinder static, 1 load step", "cylinder static, 3 load steps", "cylinder_compress nu 0.3 (Fig. 6)",
                  "cube_ortho_compress (Fig. 3)", "interaction, tets (Fig. 13)", "interaction, hexahedra (Fig. 13)"]
@@ -129,8 +133,8 @@ def cmd_run(a):
                 m = run_one(binary, label, variant, extra, a.timeout)
                 print("%s, %s: exit %s, %.0f s" % (label, variant, m["exit"], m["wall"]), flush=True)
         if "filters" in groups and label in FILTER_SCENES:
-            for f in FILTERS:
-                m = run_one(after, label, "filter_" + f, ["-psd_projection", f], a.timeout)
+            for f, extra in FILTERS.items():
+                m = run_one(after, label, "filter_" + slug(f), extra, a.timeout)
                 print("%s, filter %s: exit %s, %.0f s" % (label, f, m["exit"], m["wall"]), flush=True)
 
 
@@ -181,6 +185,18 @@ def tolerance(run, label):
     return (1e-4 if static else 1e-2 * dt) * run["L"]
 
 
+def lifted_counts(run):
+    """Lifted linear solves of the run and how many of them the safeguard or the merit test shortened (lambda < 1)."""
+    path = os.path.join(run["dir"], "run_newton.csv") if run and "dir" in run else None
+    if not path or not os.path.exists(path):
+        return "-"
+    with open(path) as fh:
+        rows = [r for r in csv.DictReader(fh) if r.get("lifted") == "1"]
+    if not rows and not run["rows"]:
+        return "-"
+    return "%d (%d)" % (len(rows), sum(1 for r in rows if float(r["lambda"]) < 1.0))
+
+
 def row_cells(run):
     if run is None or run.get("exit") != 0 and not run.get("rows"):
         return ["-"] * 6
@@ -195,7 +211,9 @@ def cmd_report(a):
              "out/newton_work/; **do not edit by hand**. %s. Every number is an average over every step of the run "
              "(as the paper's Table 1); Newton = updates of the state, solves = linear solves (the one that "
              "certifies convergence included), s = the steps' wall time (stats wall_s); sub-steps = load sub-steps "
-             "of the whole run. Distance = the largest vertex distance between the before and after states at the "
+             "of the whole run; lifted solves = linear solves that carried an increment of the supports (in brackets: "
+             "how many of their updates the safeguard or the merit test shortened; `before` builds have none). "
+             "Distance = the largest vertex distance between the before and after states at the "
              "end, over the run's Newton tolerance (-newton_tol L, x dt for backward Euler): below 1 the two agree "
              "within what the tolerance certifies." % (
                  datetime.datetime.utcnow().strftime("%Y-%m-%d %H:%M UTC"),
@@ -203,7 +221,8 @@ def cmd_report(a):
     builds = set()
     lines += ["## Before and after", "",
               "| scene | build | steps converged | Newton/step | solves/step | PCG/step | s/step | sub-steps | "
-              "time ratio | distance / tol |", "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+              "lifted solves (shortened) | time ratio | distance / tol |",
+              "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for label in SCENES:
         before, after = read_run(label, "before"), read_run(label, "after")
         if not before and not after:
@@ -219,18 +238,20 @@ def cmd_report(a):
         for name, run in (("before", before), ("after", after)):
             if run and "build" in run:
                 builds.add("%s: %s" % (name, run["build"]))
-            lines.append("| %s | %s | %s | %s | %s |" % (label, name, " | ".join(row_cells(run)),
-                                                         ratio if name == "after" else "",
+            lines.append("| %s | %s | %s | %s | %s | %s |" % (label, name, " | ".join(row_cells(run)),
+                                                              lifted_counts(run) if run and run.get("rows") else "-",
+                                                              ratio if name == "after" else "",
                                                          dist if name == "after" else ""))
     lines += ["", "Builds: " + "; ".join(sorted(builds)) + ".", ""]
     lines += ["## Hessian filters (after build)", "",
-              "Each scene with each element Hessian filter (-psd_projection); the defaults are abs for static "
-              "solves and clamp for backward Euler.", "",
+              "Each scene with each element Hessian filter (-psd_projection, each with the unfiltered Hessian after "
+              "full-length updates, -newton_exact_hessian, on by default), and the default filter without it; the "
+              "default filters are abs for static solves and clamp for backward Euler.", "",
               "| scene | filter | steps converged | Newton/step | solves/step | PCG/step | s/step | sub-steps |",
               "|---|---|---:|---:|---:|---:|---:|---:|"]
     for label in FILTER_SCENES:
         for f in FILTERS:
-            run = read_run(label, "filter_" + f)
+            run = read_run(label, "filter_" + slug(f))
             if run:
                 lines.append("| %s | %s | %s |" % (label, f, " | ".join(row_cells(run))))
     lines.append("")
