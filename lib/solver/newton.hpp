@@ -90,7 +90,7 @@ class NewtonSolver {
   // The lifted load increment (lifted_increment.cpp).
   PetscErrorCode setLoad(double load);
   PetscErrorCode gradientAt(Vec xLocal, Vec gLocal, Vec gGlobal);
-  PetscErrorCode inertiaHoldsInterior(Vec coupling, double incrementInf, bool *holds);
+  bool supportsAloneFirst() const;  // -lift_increments auto with inertia: the old path where the safeguard allows it
   PetscErrorCode liftedDirection(Vec xLocal, Vec coupling, Vec b, Vec p, IterationRecord *rec, bool *solved);
   PetscErrorCode liftedLength(Vec x, Vec p, double s, double target, const std::vector<double> &alphaRef,
                               bool certifying, double *lambda);

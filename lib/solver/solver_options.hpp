@@ -146,8 +146,9 @@ inline constexpr OptionDecl newtonForcing =
 inline constexpr OptionDecl liftIncrements =
     choiceOption("-lift_increments", "auto|always|never",
                  "a step's increment of the prescribed motion enters Newton's first linear solve, the interior moving "
-                 "with its supports; auto: unless inertia holds the interior (see Moving supports below); never: the "
-                 "supports move alone first, the increment halved until the alpha safeguard accepts it")
+                 "with its supports; auto: every static step, and a backward Euler step only where the supports "
+                 "moved alone would fail the alpha safeguard; never: the supports move alone first, the increment "
+                 "halved until the safeguard accepts it")
         .byDefault("auto");
 inline constexpr OptionDecl newtonInertiaGuess =
     flagOption("-newton_inertia_guess",
