@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Newton's work on the scenes whose supports move: before and after, and the Hessian filters.
 
-usage: bench/newton_work.py run [--before BIN] [--after BIN] [--groups lifting,filters] [--only LABEL,...]
+usage: bench/newton_work.py run [--before BIN] [--after BIN] [--groups lifting,filters,reference] [--only LABEL,...]
        bench/newton_work.py report [--out bench/results/newton_work.md]
 
 `run` solves each scene below with two aries builds, "before" (--before: a build of an earlier commit; without it the
@@ -9,7 +9,9 @@ same build with -lift_increments never, which moves the supports alone as aries 
 default build/aries), 2 MPI ranks, and keeps every run's stats, Newton history, log and final state in
 out/newton_work/ (a run whose directory holds the same command line and a finished result is read back, not run
 again). The filter group runs the after build with each element Hessian filter (-psd_projection clamp, abs, adaptive,
-none) and with the default filter but -newton_exact_hessian false. `report` writes the tables: steps converged, Newton updates, linear solves and PCG iterations per step, seconds
+none) and with the default filter but -newton_exact_hessian false; the reference group solves each static scene with the
+after build at -newton_tol 1e-8 (quadratic convergence gets there in a few updates), the solution both builds' states
+are measured against. `report` writes the tables: steps converged, Newton updates, linear solves and PCG iterations per step, seconds
 per step (averages over every step of a run, as the paper's tables), the load sub-steps, and how far the after state
 is from the before state at the end (the largest vertex distance over the Newton tolerance of the run: below 1, the
 two builds agree within what the tolerance certifies).
@@ -79,6 +81,10 @@ FILTER_SCENES = ["cylinder static, 1 load step", "cylinder static, 3 load steps"
                  "cube_ortho_compress (Fig. 3)", "interaction, tets (Fig. 13)", "interaction, hexahedra (Fig. 13)"]
 
 
+# the static scenes' reference solution: the after build at this -newton_tol (its Newton converges quadratically there)
+REFERENCE_TOL = 1e-8
+
+
 def slug(text):
     return re.sub(r"[^a-z0-9]+", "_", text.lower()).strip("_")
 
@@ -132,6 +138,9 @@ def cmd_run(a):
             for variant, binary, extra in (("before", before, before_extra), ("after", after, [])):
                 m = run_one(binary, label, variant, extra, a.timeout)
                 print("%s, %s: exit %s, %.0f s" % (label, variant, m["exit"], m["wall"]), flush=True)
+        if "reference" in groups and SCENES[label][3] == "static":
+            m = run_one(after, label, "reference", ["-newton_tol", str(REFERENCE_TOL)], a.timeout)
+            print("%s, reference: exit %s, %.0f s" % (label, m["exit"], m["wall"]), flush=True)
         if "filters" in groups and label in FILTER_SCENES:
             for f, extra in FILTERS.items():
                 m = run_one(after, label, "filter_" + slug(f), extra, a.timeout)
@@ -215,33 +224,41 @@ def cmd_report(a):
              "how many of their updates the safeguard or the merit test shortened; `before` builds have none). "
              "Distance = the largest vertex distance between the before and after states at the "
              "end, over the run's Newton tolerance (-newton_tol L, x dt for backward Euler): below 1 the two agree "
-             "within what the tolerance certifies." % (
+             "within what the tolerance certifies. To reference = the same distance of each to the static scenes' "
+             "reference solution (the after build at -newton_tol %g): which of the two is nearer the solution." % (
                  datetime.datetime.utcnow().strftime("%Y-%m-%d %H:%M UTC"),
-                 scenes.machine_line(RANKS)), ""]
+                 scenes.machine_line(RANKS), REFERENCE_TOL), ""]
     builds = set()
     lines += ["## Before and after", "",
               "| scene | build | steps converged | Newton/step | solves/step | PCG/step | s/step | sub-steps | "
-              "lifted solves (shortened) | time ratio | distance / tol |",
-              "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+              "lifted solves (shortened) | time ratio | distance / tol | to reference / tol |",
+              "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for label in SCENES:
         before, after = read_run(label, "before"), read_run(label, "after")
         if not before and not after:
             continue
         ratio = dist = "-"
+        reference = read_run(label, "reference")
+        to_reference = {}
         if before and after and before["rows"] and after["rows"]:
             ratio = "%.2fx" % (averages(before)["seconds"] / averages(after)["seconds"])
             try:
                 d = np.linalg.norm(final_positions(before) - final_positions(after), axis=1).max()
                 dist = "%.2g" % (d / tolerance(after, label))
+                if reference and reference.get("exit") == 0:
+                    for name, run in (("before", before), ("after", after)):
+                        d = np.linalg.norm(final_positions(run) - final_positions(reference), axis=1).max()
+                        to_reference[name] = "%.2g" % (d / tolerance(after, label))
             except (OSError, KeyError, IndexError, ValueError):
                 dist = "-"
         for name, run in (("before", before), ("after", after)):
             if run and "build" in run:
                 builds.add("%s: %s" % (name, run["build"]))
-            lines.append("| %s | %s | %s | %s | %s | %s |" % (label, name, " | ".join(row_cells(run)),
-                                                              lifted_counts(run) if run and run.get("rows") else "-",
-                                                              ratio if name == "after" else "",
-                                                         dist if name == "after" else ""))
+            lines.append("| %s | %s | %s | %s | %s | %s | %s |" % (label, name, " | ".join(row_cells(run)),
+                                                                   lifted_counts(run) if run and run.get("rows") else "-",
+                                                                   ratio if name == "after" else "",
+                                                                   dist if name == "after" else "",
+                                                                   to_reference.get(name, "-")))
     lines += ["", "Builds: " + "; ".join(sorted(builds)) + ".", ""]
     lines += ["## Hessian filters (after build)", "",
               "Each scene with each element Hessian filter (-psd_projection, each with the unfiltered Hessian after "
@@ -264,7 +281,7 @@ def main():
     r = sub.add_parser("run")
     r.add_argument("--before", default=None)
     r.add_argument("--after", default=os.path.join(ROOT, "build", "aries"))
-    r.add_argument("--groups", default="lifting,filters")
+    r.add_argument("--groups", default="lifting,filters,reference")
     r.add_argument("--only", default=None)
     r.add_argument("--timeout", type=int, default=4 * 3600)
     p = sub.add_parser("report")
