@@ -143,12 +143,6 @@ PetscErrorCode NewtonSolver::liftedLength(Vec x, Vec p, double s, double target,
   PetscFunctionReturn(0);
 }
 
-// Backward Euler, -lift_increments auto: does inertia hold the interior this step? The supports' pull on their free
-// neighbours, q = H_fd d, would move a neighbour held by its inertia alone by dt^2 q_i / m_i in one step. Where that is
-// below the supports' own move |d| (the cell-scale ratio of stiffness to inertia, E dt^2 / (rho h^2), below about 1),
-// the response to the move stays within the first layer of cells: the Newton step taken after moving the supports
-// alone is linearized where that layer actually is, and certifies the step sooner than a lifted one (measured on the
-// dynamic Fig. 3/6 scenes, bench/newton_work.py). Static solves have no inertia: always lifted.
 // -lift_increments auto with inertia: the supports moved alone, where the safeguard accepts that move, start a step
 // that costs no more than the lifted one and usually less (measured on Table 1's Fig. 3/6 rows, bench/newton_work.py:
 // at nu = 0.49 lifting every step took 1.99 Newton updates per step against 0.70 and 0.26). Inertia holds the interior
@@ -161,9 +155,9 @@ bool NewtonSolver::supportsAloneFirst() const {
 
 // One lifted update from the discretization's load s towards `target` (see the top of this file). *advanced: the state
 // and the load moved; *converged: the combined step was the final correction (the load is the target). A load step
-// that moves no prescribed value (pinned supports, only surface loads or fields changing) has nothing to lift, and a
-// backward Euler step under auto (supportsAloneFirst) is started from the supports moved alone when the safeguard
-// accepts that move: both are handed back at once, and the time stepper moves the load before a plain Newton solve.
+// that moves no prescribed value (pinned supports, only surface loads or fields changing) has nothing to lift: it is
+// handed back at once, and the time stepper moves the load before a plain Newton solve. (A backward Euler step under
+// auto whose supports may move alone, supportsAloneFirst, does not come here: Simulation::solveToLoad.)
 PetscErrorCode NewtonSolver::liftedUpdate(Vec x, double target, bool *advanced, bool *converged) {
   NewtonContext &c = ctx_;
   fem::Discretization &disc = *c.disc;
@@ -194,14 +188,6 @@ PetscErrorCode NewtonSolver::liftedUpdate(Vec x, double target, bool *advanced, 
   PetscCall(VecAXPY(xl.get(), -1.0, dl.get()));
   std::vector<double> alphaRef;
   PetscCall(disc.cellGuard(xl.get(), &alphaRef));
-  if (supportsAloneFirst()) {
-    bool ok = false;
-    PetscCall(safeguard_->acceptable(c, x, alphaRef, &ok));  // the supports moved alone, at the target
-    if (ok) {
-      PetscCall(setLoad(s));
-      PetscFunctionReturn(0);
-    }
-  }
   {  // the coupling H_fd d, a global vector (only the cells next to the supports are evaluated)
     LocalVec hd(dm);
     PetscCall(hd.zeros());

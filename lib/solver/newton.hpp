@@ -74,6 +74,9 @@ class NewtonSolver {
   // Total potential at a global state (Dirichlet values filled); `magnitude` as in Discretization::objective.
   PetscErrorCode energyAt(Vec xGlobal, PetscReal *value, PetscReal *magnitude);
   double alphaMin() const { return opts_.safeguard.alphaMin; }
+  // -lift_increments auto with inertia: a step starts from its supports moved alone where the alpha safeguard accepts
+  // that move, and is lifted only where it does not (lifted_increment.cpp says why).
+  bool supportsAloneFirst() const;
   // The state the solver carries from one solve to the next (checkpointed with the run's state).
   NewtonMemory memory() const;
   void restore(const NewtonMemory &m);
@@ -90,7 +93,6 @@ class NewtonSolver {
   // The lifted load increment (lifted_increment.cpp).
   PetscErrorCode setLoad(double load);
   PetscErrorCode gradientAt(Vec xLocal, Vec gLocal, Vec gGlobal);
-  bool supportsAloneFirst() const;  // -lift_increments auto with inertia: the old path where the safeguard allows it
   PetscErrorCode liftedDirection(Vec xLocal, Vec coupling, Vec b, Vec p, IterationRecord *rec, bool *solved);
   PetscErrorCode liftedLength(Vec x, Vec p, double s, double target, const std::vector<double> &alphaRef,
                               bool certifying, double *lambda);

@@ -236,7 +236,17 @@ PetscErrorCode Simulation::solveToLoad(double loadTarget, NewtonResult *acc, boo
       *reason = "safeguard_load";
       PetscFunctionReturn(0);
     }
-    if (s0 != loadTarget) {
+    // Backward Euler under -lift_increments auto: the supports move alone where the safeguard accepts that move (as
+    // without lifting); only a move it rejects is lifted (NewtonSolver::supportsAloneFirst).
+    bool movedAlone = false;
+    if (s0 != loadTarget && newton_.supportsAloneFirst()) {
+      std::vector<double> ref;
+      PetscCall(newton_.alphasAt(x_, &ref));
+      PetscCall(setLoad(loadTarget));
+      PetscCall(newton_.alphaAcceptable(x_, ref, &movedAlone));
+      if (!movedAlone) PetscCall(setLoad(s0));
+    }
+    if (s0 != loadTarget && !movedAlone) {
       NewtonResult r;
       bool advanced = false;
       PetscCall(PetscLogStagePush(solveStage_));
@@ -255,7 +265,7 @@ PetscErrorCode Simulation::solveToLoad(double loadTarget, NewtonResult *acc, boo
       }
     }
     double sTry = loadTarget;
-    if (sTry != s0) {
+    if (sTry != s0 && !movedAlone) {
       std::vector<double> ref;
       PetscCall(newton_.alphasAt(x_, &ref));
       bool acceptable = false;

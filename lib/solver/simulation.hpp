@@ -4,9 +4,10 @@
 // Moving boundaries: the prescribed motion is ramped with the load parameter s = min(1, step / -bc_ramp_steps).
 // Dirichlet values are eliminated from the unknowns; a step's increment of them enters the Newton solve lifted
 // (-lift_increments, solver/lifted_increment.cpp): the interior moves with its supports in the first linear solve, and
-// the alpha safeguard shortens the combined update. Where it cannot (or with -lift_increments never) the supports move
-// alone, before any line search, and the safeguard guards that move: if it would drop an element's alpha below
-// -alpha_min, the increment is halved and the step is solved in sub-increments.
+// the alpha safeguard shortens the combined update (backward Euler under auto: only a step whose supports moved alone
+// would fail the safeguard; the others move them alone). Where it cannot (or with -lift_increments never) the
+// supports move alone, before any line search, and the safeguard guards that move: if it would drop an element's
+// alpha below -alpha_min, the increment is halved and the step is solved in sub-increments.
 //
 // Failure policy (-on_failure): stop (default; the run ends with exit code 3 after writing the stats row and the
 // last accepted state), halve_dt (retry the step as two half steps, up to -max_step_halvings times), continue (keep

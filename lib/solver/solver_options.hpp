@@ -145,10 +145,9 @@ inline constexpr OptionDecl newtonForcing =
         .below(1);
 inline constexpr OptionDecl liftIncrements =
     choiceOption("-lift_increments", "auto|always|never",
-                 "a step's increment of the prescribed motion enters Newton's first linear solve, the interior moving "
-                 "with its supports; auto: every static step, and a backward Euler step only where the supports "
-                 "moved alone would fail the alpha safeguard; never: the supports move alone first, the increment "
-                 "halved until the safeguard accepts it")
+                 "the increment of the prescribed motion enters Newton's first linear solve, the interior moving with "
+                 "its supports; auto: static steps, and backward Euler steps whose supports moved alone would fail "
+                 "the alpha safeguard; never: supports move alone, the increment halved until the safeguard accepts it")
         .byDefault("auto");
 inline constexpr OptionDecl newtonInertiaGuess =
     flagOption("-newton_inertia_guess",
