@@ -89,7 +89,7 @@ PetscErrorCode HessianFilter::repairDirection(NewtonContext &ctx, Direction &d, 
   ++ctx.result.linearSolves;
   if (reason == KSP_DIVERGED_ITS) ++ctx.result.linearAtLimit;
   d.record.linearIterations = its;
-  d.record.filter = filtered_ == kernels::EigenFilter::Abs ? 'a' : 'c';
+  d.record.filter = filterTag(filtered_);
   *changed = PETSC_TRUE;
   PetscFunctionReturn(0);
 }

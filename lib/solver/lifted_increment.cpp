@@ -201,8 +201,7 @@ PetscErrorCode NewtonSolver::liftedUpdate(Vec x, double target, bool *advanced, 
   IterationRecord rec;
   rec.iteration = c.iterationOffset;
   rec.lifted = true;
-  rec.filter = disc.eigenFilter() == kernels::EigenFilter::Abs ? 'a'
-               : disc.eigenFilter() == kernels::EigenFilter::None ? 'n' : 'c';
+  rec.filter = filterTag(disc.eigenFilter());
   bool solved = false;
   PetscCall(liftedDirection(xl.get(), lift_.coupling, lift_.rhs, lift_.step, &rec, &solved));
   rec.stepInf = std::max<double>(rec.stepInf, incrementInf);  // the combined step: interior and supports

@@ -179,8 +179,7 @@ PetscErrorCode NewtonSolver::preCheck(SNESLineSearch, Vec X, Vec Y, PetscBool *c
   d.record.iteration = iter + c.iterationOffset;
   d.record.load = c.disc->load();
   d.record.linearIterations = its;
-  const kernels::EigenFilter filter = c.disc->eigenFilter();
-  d.record.filter = filter == kernels::EigenFilter::Abs ? 'a' : filter == kernels::EigenFilter::None ? 'n' : 'c';
+  d.record.filter = filterTag(c.disc->eigenFilter());
   PetscCall(VecNorm(F, NORM_2, &d.record.residual));
   self->havePending_ = true;
 

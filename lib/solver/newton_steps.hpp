@@ -142,6 +142,11 @@ class RigidMotionRemoval final : public NewtonStep {
   PetscErrorCode shapeDirection(NewtonContext &ctx, Direction &d, Vec X, Vec Y, Vec F, PetscBool *changed) override;
 };
 
+// The -newton_history `filter` column of a system assembled with this eigenvalue filter: a(bs), c(lamp), n(one).
+inline char filterTag(kernels::EigenFilter filter) {
+  return filter == kernels::EigenFilter::Abs ? 'a' : filter == kernels::EigenFilter::None ? 'n' : 'c';
+}
+
 // Did the linear solve solve the Newton system? The trust-region CG variants (-ksp_type nash, stcg, gltr) report a
 // truncated direction as converged (stopped at negative curvature or at the trust radius): a short direction from
 // them says nothing about the distance to equilibrium (NASH stopped at its first iteration returns p = 0, which
