@@ -176,6 +176,10 @@ def case_defs():
         "$Elements\n3\n", "$Elements\n4\n").replace("$EndElements", "4 3 2 1 1 1 2 5 3\n$EndElements"))],
                                     r"quads\.msh' line \d+: quadrangles \(element type 3\) are read as faces of "
                                     r"hexahedra, and the file has no hexahedra")
+    d["face_not_of_a_cell"] = (lambda: ["-dm_plex_filename", write("strayface.msh", TET_MSH.replace(
+        "1 2 2 1 1 1 2 3\n", "1 2 2 1 1 1 2 5\n"))],
+                               r"strayface\.msh' \(-dm_plex_filename\): a face of physical group 1 \(corner at "
+                               r"\(0, 0, 0\)\) is not a face of any cell")
     d["folded_hexahedron"] = (lambda: ["-dm_plex_filename", write("folded.msh", HEX_MSH.replace(
         "2 5 2 1 1 2 7 8 3 6 11 12 9", "2 5 2 1 1 2 7 3 8 6 11 12 9"))],
                               r"cell 1 .*degenerate: rest volume 0 \(det J <= 0 at some Gauss point: a folded hexahedron")

@@ -542,6 +542,97 @@ def case_ranks_agree():
         fail("1 and 2 ranks disagree by %.3e L" % diff)
 
 
+def msh41_from_msh22(src, dst):
+    """The MSH 2.2 ASCII mesh src rewritten as MSH 4.1 ASCII (one entity per element dimension and physical tag, the
+    physical names kept): the same mesh in the format whose tags live on entities."""
+    text = open(src).read()
+    names = text[text.index("$PhysicalNames"):text.index("$EndPhysicalNames") + len("$EndPhysicalNames")]
+    nodes = text[text.index("$Nodes") + 7:text.index("$EndNodes")].split("\n")[1:]
+    nodes = [l.split() for l in nodes if l.strip()]
+    elements = text[text.index("$Elements") + 10:text.index("$EndElements")].split("\n")[1:]
+    dims = {15: 0, 1: 1, 2: 2, 3: 2, 4: 3, 5: 3}
+    blocks = {}  # (dim, physical tag, type) -> element node lists
+    for l in elements:
+        v = [int(x) for x in l.split()]
+        if not v:
+            continue
+        ntags = v[2]
+        blocks.setdefault((dims[v[1]], v[3] if ntags else 0, v[1]), []).append(v[3 + ntags:])
+    entities = sorted({(d, t) for d, t, _ in blocks})
+    ids = {e: i + 1 for i, e in enumerate(entities)}
+    out = ["$MeshFormat", "4.1 0 8", "$EndMeshFormat", names, "$Entities",
+           " ".join(str(sum(1 for d, _ in entities if d == k)) for k in range(4))]
+    for d, t in entities:
+        phys = "1 %d" % t if t else "0"
+        out.append("%d 0 0 0 %s" % (ids[(d, t)], phys) if d == 0 else "%d 0 0 0 1 1 1 %s 0" % (ids[(d, t)], phys))
+    out += ["$EndEntities", "$Nodes", "1 %d 1 %d" % (len(nodes), max(int(n[0]) for n in nodes)),
+            "3 %d 0 %d" % (ids[entities[-1]], len(nodes))]
+    out += [n[0] for n in nodes] + [" ".join(n[1:]) for n in nodes] + ["$EndNodes", "$Elements"]
+    count = sum(len(b) for b in blocks.values())
+    out.append("%d %d 1 %d" % (len(blocks), count, count))
+    eid = 0
+    for (d, t, typ), cells in blocks.items():
+        out.append("%d %d %d %d" % (d, ids[(d, t)], typ, len(cells)))
+        for c in cells:
+            eid += 1
+            out.append("%d %s" % (eid, " ".join(map(str, c))))
+    out += ["$EndElements", ""]
+    with open(dst, "w") as fh:
+        fh.write("\n".join(out))
+    return dst
+
+
+def mesh_labels(msh, faces, tag):
+    """The label strata of the mesh as read on one rank (-dm_view), every label but depth and celltype."""
+    info = os.path.join(ARGS.work, tag + ".info")
+    log, _ = run(["-dm_plex_filename", msh, "-integrator", "static", "-steps", "1", "-mesh_faces",
+                  faces, "-dm_view", "-info", info + ":sys"], ranks=1, tag=tag)
+    info_text = "".join(open(f).read() for f in glob.glob(info + "*"))
+    if ("faces and edges made by every rank after distribution" in info_text) != (faces == "distributed"):
+        fail("%s: -mesh_faces %s did not take its path (the -info line)" % (msh, faces))
+    block = log[log.index("Labels:"):].splitlines()[1:]
+    lines = []
+    for l in block:
+        if not l.startswith("  ") or l.startswith("   "):
+            break
+        if not l.strip().startswith(("depth", "celltype")):
+            lines.append(l.strip())
+    return sorted(lines)
+
+
+def case_mesh_faces():
+    """A 3D gmsh mesh's faces made by every rank after distribution (-mesh_faces distributed, the default) label the
+    same faces as PETSc's reader does on rank 0 (-mesh_faces serial): the label strata agree on tetrahedra and
+    hexahedra in MSH 2.2 and on the tetrahedra rewritten as MSH 4.1 (tags on entities); and on --ranks ranks the box
+    compressed by its face groups has the same held vertices and the same reaction in both modes (the partitions
+    differ: METIS gets the dual graph from the corners instead of the faces)."""
+    box = mesh("box")
+    meshes = [box, mesh("hexcube"), msh41_from_msh22(box, os.path.join(ARGS.work, "box41.msh"))]
+    for k, msh in enumerate(meshes):
+        serial = mesh_labels(msh, "serial", "labels_serial_%d" % k)
+        distributed = mesh_labels(msh, "distributed", "labels_distributed_%d" % k)
+        print("%s: %s" % (os.path.basename(msh), "; ".join(serial)))
+        if not any(l.startswith("Face Sets") for l in serial):
+            fail("%s: no Face Sets read by PETSc's reader: the comparison proves nothing" % msh)
+        if serial != distributed:
+            fail("%s: labels differ:\n serial      %s\n distributed %s" % (msh, serial, distributed))
+    results = {}
+    for faces in ("serial", "distributed"):
+        tag = "box_%s" % faces
+        log, _ = run(["-dm_plex_filename", meshes[2], "-energy", "iarap", "-integrator", "static", "-steps", "1",
+                      "-bc_clamp", "bottom,top", "-bc_clamp_top_translate", "0,0,-0.1", "-mesh_faces", faces,
+                      "-reactions", out_base(tag) + "_reactions.csv"], tag=tag)
+        held = re.search(r"\((\d+) Dirichlet\)", log)
+        force = [float(x) for x in open(out_base(tag) + "_reactions.csv").read().strip().splitlines()[-1].split(",")[3:]]
+        results[faces] = (int(held.group(1)) if held else -1, np.array(force))
+    print("held vertices and top reaction: %s" % results)
+    (held_s, force_s), (held_d, force_d) = results["serial"], results["distributed"]
+    if held_s <= 0 or held_s != held_d:
+        fail("held vertices: serial %d, distributed %d" % (held_s, held_d))
+    if not np.abs(force_s - force_d).max() <= 1e-8 * np.abs(force_s).max():
+        fail("top reaction: serial %s, distributed %s" % (force_s, force_d))
+
+
 def case_safeguard(linesearch):
     """The alpha safeguard halves Newton steps that would push an element's alpha below -alpha_min (raised here to
     4, rest alpha = 64, so that it acts during an inside-out recovery; cells are guarded from 2 alpha_min up), the
@@ -2232,6 +2323,7 @@ CASES = {
     "run_resources": case_run_resources,
     "ortho_cube": case_ortho_cube,
     "ranks_agree": case_ranks_agree,
+    "mesh_faces": case_mesh_faces,
     "safeguard_basic": lambda: case_safeguard("basic"),
     "safeguard_l2": lambda: case_safeguard("l2"),
     "kim_aa_fails": case_kim_aa_fails,

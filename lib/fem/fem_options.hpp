@@ -53,8 +53,15 @@ inline constexpr OptionDecl element =
                  "mesh has trilinear hexahedra")
         .byDefault("p1");
 
-inline constexpr const OptionDecl *kMeshOptions[] = {&meshFile,     &partitioner, &meshConvert,
-                                                     &gmshSpaceDim, &uvMap,       &element};
+inline constexpr OptionDecl meshFaces =
+    choiceOption("-mesh_faces", "distributed|serial",
+                 "where a gmsh mesh's faces and edges are made: by every rank for its part after the cells are "
+                 "distributed (ASCII 3D meshes, p1 or hexahedra, PETSc's default gmsh labels, -partitioner metis or "
+                 "rcb; any other mesh as serial), or on rank 0 before they are, as PETSc's reader does")
+        .byDefault("distributed");
+
+inline constexpr const OptionDecl *kMeshOptions[] = {&meshFile, &partitioner, &meshFaces,  &meshConvert,
+                                                     &gmshSpaceDim, &uvMap,    &element};
 
 // ---- material ----
 inline constexpr OptionDecl energy =

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <map>
+#include <unordered_map>
 #include <set>
 #include <sstream>
 #include <unordered_set>
@@ -107,20 +109,82 @@ bool checkElementType(Reader &r, int type) {
   return r.fail(o.str());
 }
 
-// What the parsers record: node tags (so elements can be checked against them) and the nodes' bounding box.
+int dimensionOfType(int type) {
+  switch (type) {
+    case 15: return 0;
+    case 1: return 1;
+    case 2:
+    case 3: return 2;
+    default: return 3;
+  }
+}
+
+// What the parsers record: the node tags (so elements can be checked against them) in file order, the nodes' bounding
+// box, and, when asked (`facets`), what GmshFacets needs: each node's coordinates, which nodes are element corners,
+// the physical tags of the MSH 4 entities and the tagged triangles and quadrangles.
 struct NodeData {
-  std::unordered_set<long> tags;
-  unsigned elementTypes = 0;  // bit per gmsh element type seen (types < 32)
+  std::unordered_map<long, long> index;  // node tag -> position in the file
+  unsigned elementTypes = 0;             // bit per gmsh element type seen (types < 32)
   double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-  void addPoint(double x, double y, double z) {
+  GmshFacets *facets = nullptr;          // collect for it (rank 0), or not
+  std::vector<double> xyz;               // per node in file order (collecting)
+  std::vector<char> corner;              // per node: a corner of some element (collecting)
+  std::map<std::pair<int, int>, int> entityTag;  // MSH 4 (dim, entity) -> its first physical tag, -1 for none
+  struct Tagged {
+    int dim, tag, n;
+    std::array<long, 4> node;  // positions in the file
+  };
+  std::vector<Tagged> tagged;  // triangles and quadrangles with a physical tag (collecting)
+
+  bool addNode(long tag, double x, double y, double z) {
     const double p[3] = {x, y, z};
     for (int d = 0; d < 3; ++d) {
       lo[d] = std::min(lo[d], p[d]);
       hi[d] = std::max(hi[d], p[d]);
     }
+    if (!index.emplace(tag, static_cast<long>(index.size())).second) return false;
+    if (facets) xyz.insert(xyz.end(), p, p + 3);
+    return true;
+  }
+  // An element of `type` with `n` node tags (all defined) and its first physical tag (hasTag).
+  void addElement(int type, bool hasTag, int tag, const double *nodeTags, int n) {
+    if (!facets) return;
+    if (corner.size() != index.size()) corner.assign(index.size(), 0);
+    facets->cellDim = std::max(facets->cellDim, dimensionOfType(type));
+    Tagged t{dimensionOfType(type), tag, n, {}};
+    for (int k = 0; k < n; ++k) {
+      const long i = index.at(static_cast<long>(nodeTags[k]));
+      corner[i] = 1;
+      if (k < 4) t.node[k] = i;
+    }
+    if (hasTag && t.dim == 2 && n <= 4) tagged.push_back(t);  // the faces of a 3D mesh
   }
   GmshFacts facts() const {
     return GmshFacts{true, hi[2] - lo[2], std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]})};
+  }
+  // The facets PETSc 3.18's reader labels: elements one dimension below the cells ("Face Sets"; it labels no lines
+  // in 3D), their corners numbered as PETSc numbers its vertices.
+  void finishFacets() {
+    if (!facets || !facets->known) return;
+    if (corner.size() != index.size()) corner.assign(index.size(), 0);
+    std::vector<long> vertexOf(corner.size(), -1);
+    long count = 0;
+    for (size_t i = 0; i < corner.size(); ++i)
+      if (corner[i]) vertexOf[i] = count++;
+    facets->numVertices = count;
+    const int cellDim = facets->cellDim;
+    for (const Tagged &t : tagged) {
+      if (t.dim != cellDim - 1) continue;
+      GmshFacets::Facet f;
+      f.dim = t.dim;
+      f.tag = t.tag;
+      f.numCorners = t.n;
+      for (int k = 0; k < t.n; ++k) {
+        f.vertex[k] = vertexOf[t.node[k]];
+        for (int d = 0; d < 3; ++d) f.corner[3 * k + d] = xyz[3 * t.node[k] + d];
+      }
+      facets->facets.push_back(f);
+    }
   }
 };
 
@@ -145,8 +209,7 @@ bool nodes2(Reader &r, NodeData *nodes) {
   for (long i = 0; i < n; ++i) {
     if (!r.numbers(&v, "$Nodes", n, i)) return false;
     if (v.size() != 4) return r.fail("a node line needs 4 numbers (id x y z)");
-    nodes->addPoint(v[1], v[2], v[3]);
-    if (!nodes->tags.insert(static_cast<long>(v[0])).second)
+    if (!nodes->addNode(static_cast<long>(v[0]), v[1], v[2], v[3]))
       return r.fail("node " + std::to_string((long)v[0]) + " is defined twice");
   }
   if (!r.expect("$EndNodes")) return r.fail("$Nodes declares " + std::to_string(n) + " nodes but has more or fewer");
@@ -168,9 +231,11 @@ bool elements2(Reader &r, NodeData *nodes) {
       return r.fail("element " + std::to_string((long)v[0]) + " has " + std::to_string(v.size()) +
                     " numbers, expected " + std::to_string(expected));
     for (size_t k = 3 + ntags; k < v.size(); ++k)
-      if (!nodes->tags.count(static_cast<long>(v[k])))
+      if (!nodes->index.count(static_cast<long>(v[k])))
         return r.fail("element " + std::to_string((long)v[0]) + " uses node " + std::to_string((long)v[k]) +
                       ", which is not defined");
+    nodes->addElement(type, ntags > 0, ntags > 0 ? static_cast<int>(v[3]) : 0, v.data() + 3 + ntags,
+                      nodesOfType(type));
   }
   if (!r.expect("$EndElements"))
     return r.fail("$Elements declares " + std::to_string(n) + " elements but has more or fewer");
@@ -193,9 +258,8 @@ bool nodes4(Reader &r, NodeData *nodes) {
     }
     for (long i = 0; i < n; ++i) {
       if (!r.numbers(&v, "$Nodes") || v.size() != 3) return r.fail("expected x y z of a node");
-      nodes->addPoint(v[0], v[1], v[2]);
+      if (!nodes->addNode(tags[i], v[0], v[1], v[2])) return r.fail("node " + std::to_string(tags[i]) + " is defined twice");
     }
-    for (long t : tags) nodes->tags.insert(t);
     seen += n;
   }
   if (seen != total) return r.fail("$Nodes declares " + std::to_string(total) + " nodes but its blocks have " + std::to_string(seen));
@@ -213,11 +277,16 @@ bool elements4(Reader &r, NodeData *nodes) {
     if (!checkElementType(r, type)) return false;
     nodes->elementTypes |= 1u << type;
     const long n = static_cast<long>(v[3]);
+    // the block's physical tag: its entity's first ($Entities)
+    const auto entity = nodes->entityTag.find({static_cast<int>(v[0]), static_cast<int>(v[1])});
+    if (entity == nodes->entityTag.end() && nodes->facets) nodes->facets->known = false;
+    const int tag = entity == nodes->entityTag.end() ? -1 : entity->second;
     for (long i = 0; i < n; ++i) {
       if (!r.numbers(&v, "$Elements")) return false;
       if (v.size() != static_cast<size_t>(1 + nodesOfType(type))) return r.fail("element line with a wrong number of nodes");
       for (size_t k = 1; k < v.size(); ++k)
-        if (!nodes->tags.count(static_cast<long>(v[k]))) return r.fail("element uses undefined node " + std::to_string((long)v[k]));
+        if (!nodes->index.count(static_cast<long>(v[k]))) return r.fail("element uses undefined node " + std::to_string((long)v[k]));
+      nodes->addElement(type, tag >= 0, tag, v.data() + 1, nodesOfType(type));
     }
     seen += n;
   }
@@ -226,13 +295,37 @@ bool elements4(Reader &r, NodeData *nodes) {
   return r.expect("$EndElements") && checkBoundaryTypes(r, *nodes);
 }
 
-// Other sections ($PhysicalNames, $Entities, ...) are skipped line by line; PETSc reads them.
-bool validateSections(Reader &r, SectionParser parseNodes, SectionParser parseElements, NodeData *nodesOut) {
+// MSH 4.1 $Entities: the first physical tag of every entity (points: tag x y z numPhysical tags...; curves, surfaces
+// and volumes: tag and a bounding box, numPhysical tags..., then their bounding entities).
+bool entities4(Reader &r, NodeData *nodes) {
+  std::vector<double> v;
+  if (!r.numbers(&v, "$Entities") || v.size() != 4) return r.fail("expected the four entity counts after $Entities");
+  const long counts[4] = {static_cast<long>(v[0]), static_cast<long>(v[1]), static_cast<long>(v[2]),
+                          static_cast<long>(v[3])};
+  for (int dim = 0; dim < 4; ++dim)
+    for (long i = 0; i < counts[dim]; ++i) {
+      if (!r.numbers(&v, "$Entities")) return false;
+      const size_t at = dim == 0 ? 4 : 7;  // numPhysicalTags
+      if (v.size() <= at || v.size() < at + 1 + static_cast<size_t>(v[at]))
+        return r.fail("an entity line too short for its physical tags");
+      const int first = v[at] > 0 ? static_cast<int>(v[at + 1]) : -1;
+      nodes->entityTag[{dim, static_cast<int>(v[0])}] = first;
+    }
+  return r.expect("$EndEntities");
+}
+
+// Other sections ($PhysicalNames, ...) are skipped line by line; PETSc reads them.
+bool validateSections(Reader &r, SectionParser parseNodes, SectionParser parseElements, NodeData *nodesOut,
+                      SectionParser parseEntities = nullptr) {
   std::string l;
   NodeData &nodes = *nodesOut;
   bool sawNodes = false, sawElements = false;
   while (r.line(&l)) {
-    if (l == "$Nodes") {
+    if (l == "$Entities" && parseEntities) {
+      if (!parseEntities(r, &nodes)) return false;
+    } else if (l == "$Periodic" && nodes.facets) {
+      nodes.facets->known = false;
+    } else if (l == "$Nodes") {
       if (!parseNodes(r, &nodes)) return false;
       sawNodes = true;
     } else if (l == "$Elements") {
@@ -246,7 +339,7 @@ bool validateSections(Reader &r, SectionParser parseNodes, SectionParser parseEl
   return true;
 }
 
-std::string validateFile(const std::string &file, const std::string &option, GmshFacts *facts) {
+std::string validateFile(const std::string &file, const std::string &option, GmshFacts *facts, GmshFacets *facets) {
   struct stat st;
   if (stat(file.c_str(), &st) != 0)
     return "mesh file '" + file + "' (" + option + ") does not exist or is not readable; generate scene meshes with "
@@ -277,20 +370,29 @@ std::string validateFile(const std::string &file, const std::string &option, Gms
   if (fileType != 0) return {};  // binary: left to PETSc's reader
   if (!r.expect("$EndMeshFormat")) return r.error();
   NodeData nodes;
+  if (facets) {
+    *facets = GmshFacets();
+    facets->known = (version >= 2.2 && version < 3.0) || (version >= 4.1 && version < 4.2);
+    nodes.facets = facets;
+  }
   const bool ok = version < 3.0 ? validateSections(r, nodes2, elements2, &nodes)
-                                : validateSections(r, nodes4, elements4, &nodes);
+                                : validateSections(r, nodes4, elements4, &nodes, entities4);
   if (ok) *facts = nodes.facts();
+  if (ok) nodes.finishFacets();
+  if (!ok && facets) facets->known = false;
   return ok ? std::string() : r.error();
 }
 
 }  // namespace
 
-PetscErrorCode validateGmshFile(MPI_Comm comm, const std::string &file, GmshFacts *facts, const std::string &option) {
+PetscErrorCode validateGmshFile(MPI_Comm comm, const std::string &file, GmshFacts *facts, const std::string &option,
+                                GmshFacets *facets) {
   PetscMPIInt rank;
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   GmshFacts mine;
-  const std::string err = rank == 0 ? validateFile(file, option, &mine) : std::string();
+  if (facets) *facets = GmshFacets();
+  const std::string err = rank == 0 ? validateFile(file, option, &mine, facets) : std::string();
   PetscCall(collectiveCheck(comm, !err.empty(), err));
   double packed[3] = {mine.coordinatesKnown ? 1.0 : 0.0, mine.zRange, mine.extent};
   PetscCallMPI(MPI_Bcast(packed, 3, MPI_DOUBLE, 0, comm));

@@ -7,7 +7,9 @@
 
 #include <petscsys.h>
 
+#include <array>
 #include <string>
+#include <vector>
 
 namespace aries::fem {
 
@@ -18,9 +20,27 @@ struct GmshFacts {
   double extent = 0.0;   // largest side of the nodes' bounding box
 };
 
+// The faces of an ASCII gmsh file (MSH 2.2 or 4.1) that carry a physical tag, as PETSc 3.18's reader labels them under
+// its default options ("Face Sets" for elements one dimension below the cells, the first physical tag as the value; it
+// labels no lines in 3D), with their corners in PETSc's serial vertex numbering (the nodes in file order, counting
+// those that are a corner of some element). A mesh read without its faces and edges can be labelled from them after it
+// is distributed and interpolated in parallel (fem/mesh.cpp). Read on rank 0 only.
+struct GmshFacets {
+  struct Facet {
+    int dim = 0, tag = 0, numCorners = 0;
+    std::array<long, 4> vertex{};     // serial vertex numbers of the corners
+    std::array<double, 12> corner{};  // their coordinates, as the file gives them (to check the numbering against)
+  };
+  bool known = false;  // ASCII 2.2 or 4.1 without a $Periodic section: the lists below are complete
+  int cellDim = 0;     // the largest element dimension (PETSc's cells)
+  long numVertices = 0;
+  std::vector<Facet> facets;
+};
+
 // Collective: rank 0 reads the file; every rank raises the same PETSC_ERR_USER_INPUT on a problem and receives the
-// same facts. `option`: the option that named the file, for the error messages.
+// same facts. `option`: the option that named the file, for the error messages. `facets` (rank 0, optional): the
+// tagged faces and edges, when the format allows.
 PetscErrorCode validateGmshFile(MPI_Comm comm, const std::string &file, GmshFacts *facts,
-                                const std::string &option = "-dm_plex_filename");
+                                const std::string &option = "-dm_plex_filename", GmshFacets *facets = nullptr);
 
 }  // namespace aries::fem

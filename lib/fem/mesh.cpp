@@ -155,6 +155,7 @@ PetscErrorCode numberNaturally(PetscSF migration, const std::vector<PetscInt> &l
     PetscCall(PetscSFDestroy(&migration));
   } else {
     natural = loaded;
+    natural.resize(pEnd - pStart, -1);  // faces and edges made after loading have no natural id
   }
   mesh->naturalCell.resize(mesh->cEnd - mesh->cStart);
   mesh->naturalVertex.resize(mesh->vEnd - mesh->vStart);
@@ -213,19 +214,21 @@ PetscErrorCode serialNaturalIds(DM dm, std::vector<PetscInt> *natural) {
 
 // The gmsh file, read on rank 0 (the other ranks get an empty mesh): its DM, the natural id of every point, the
 // physical names and the global counts.
-PetscErrorCode readGmshMesh(MPI_Comm comm, Mesh *mesh, DM *serial, std::vector<PetscInt> *natural) {
+PetscErrorCode readGmshMesh(MPI_Comm comm, Mesh *mesh, DM *serial, std::vector<PetscInt> *natural, bool mayDeferFaces,
+                            bool *deferred, std::vector<long long> *facetRows) {
   PetscMPIInt rank;
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   GmshFacts facts;
-  PetscCall(validateGmshFile(comm, mesh->filename, &facts, mesh->fileOption));
+  GmshFacets facets;
+  PetscCall(validateGmshFile(comm, mesh->filename, &facts, mesh->fileOption, mayDeferFaces ? &facets : nullptr));
   PetscCall(parsePhysicalNames(comm, rank == 0 ? physicalNamesBlob(mesh->filename) : std::string(),
                                &mesh->physicalNames));
   // Without this PETSc 3.18 drops gmsh point groups (pinned vertex sets) instead of labelling them.
   PetscBool hasMark = PETSC_FALSE;
   PetscCall(PetscOptionsHasName(nullptr, nullptr, "-dm_plex_gmsh_mark_vertices", &hasMark));
   if (!hasMark) PetscCall(PetscOptionsSetValue(nullptr, "-dm_plex_gmsh_mark_vertices", "true"));
-  PetscCall(DMPlexCreateFromFile(comm, mesh->filename.c_str(), "aries", PETSC_TRUE, serial));
+  PetscCall(readGmshSerial(comm, *mesh, facets, mayDeferFaces, serial, deferred, facetRows));
   PetscCall(DMGetDimension(*serial, &mesh->topoDim));
   PetscCall(DMGetCoordinateDim(*serial, &mesh->spaceDim));
   {
@@ -273,10 +276,20 @@ PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh, const std::string &file, cons
             "-partitioner rcb (the default for an HDF5 mesh) or ptscotch, or the gmsh mesh",
             mesh->filename.c_str());
 
+  int facesChoice = 0;
+  PetscCall(core::getChoice(opt::meshFaces, &facesChoice));
+  int elementChoice = 0;
+  PetscCall(core::getChoice(opt::element, &elementChoice));
+  // faces made after distribution (-mesh_faces distributed): linear cells, a partitioner that needs no faces
+  const bool mayDeferFaces = core::choices(opt::meshFaces)[facesChoice] == std::string("distributed") &&
+                             core::choices(opt::element)[elementChoice] == std::string("p1") && partitioner != "ptscotch";
+
   DM loaded = nullptr;
   std::vector<PetscInt> loadedNatural;  // per point of the loaded mesh's chart
+  bool deferredFaces = false;
+  std::vector<long long> facetRows;  // rank 0: the tagged faces of a mesh read without faces
   if (hdf5) PetscCall(readHdf5Mesh(comm, mesh, &loaded, &loadedNatural));
-  else PetscCall(readGmshMesh(comm, mesh, &loaded, &loadedNatural));
+  else PetscCall(readGmshMesh(comm, mesh, &loaded, &loadedNatural, mayDeferFaces, &deferredFaces, &facetRows));
   PetscInt numEdgesGlobal = 0;
   {
     PetscErrorCode ierr = chooseElement(comm, loaded, hdf5, mesh, &loadedNatural, &numEdgesGlobal);
@@ -299,6 +312,14 @@ PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh, const std::string &file, cons
       loaded = dist;
     }
   }
+  if (deferredFaces) {  // every rank makes the faces and edges of its part (and the point SF's shared ones)
+    PetscCall(PetscInfo(nullptr, "aries: %s: faces and edges made by every rank after distribution\n",
+                        mesh->filename.c_str()));
+    DM interpolated = nullptr;
+    PetscCall(DMPlexInterpolate(loaded, &interpolated));
+    PetscCall(DMDestroy(&loaded));
+    loaded = interpolated;
+  }
   mesh->dm = loaded;
   PetscCall(PetscObjectSetName((PetscObject)mesh->dm, "aries_mesh"));
   PetscCall(DMPlexGetHeightStratum(mesh->dm, 0, &mesh->cStart, &mesh->cEnd));
@@ -306,6 +327,7 @@ PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh, const std::string &file, cons
 
   std::vector<PetscInt> pointNatural;
   PetscCall(numberNaturally(migration, loadedNatural, mesh, &pointNatural));  // destroys the migration SF
+  if (deferredFaces) PetscCall(labelGmshFacets(comm, mesh, std::move(facetRows)));
   if (mesh->quadratic) PetscCall(refineToQuadratic(mesh, pointNatural, numEdgesGlobal));
 
   // PETSc's mesh viewer (-dm_view[ :file:format], e.g. -dm_view ::ascii_info_detail or -dm_view hdf5:mesh.h5) on the

@@ -34,7 +34,6 @@ namespace {
 
 constexpr const char *kMeshFormat = "aries-mesh-2";  // root attribute aries_mesh_format (meshes/generate.sh H5_FORMAT)
 constexpr int kCellLabelCols = 2;                    // cell, value
-constexpr int kPointLabelCols = 6;                   // cell, dimension, value, up to three vertex ids
 using PointLabelRow = std::array<long long, kPointLabelCols>;
 
 // What a converted mesh file says about itself (root attributes written by convertMesh), read on rank 0.
@@ -83,19 +82,6 @@ std::vector<std::string> splitLines(const std::string &text) {
   for (std::string line; std::getline(in, line);)
     if (!line.empty()) lines.push_back(line);
   return lines;
-}
-
-// Vertices of point p in its closure order, as natural ids (vertexNatural[v - vStart]).
-PetscErrorCode closureVertices(DM dm, PetscInt p, PetscInt vStart, PetscInt vEnd, const PetscInt *vertexNatural,
-                               std::vector<long long> *ids) {
-  PetscInt n, *closure = nullptr;
-  PetscFunctionBeginUser;
-  ids->clear();
-  PetscCall(DMPlexGetTransitiveClosure(dm, p, PETSC_TRUE, &n, &closure));
-  for (PetscInt i = 0; i < 2 * n; i += 2)
-    if (closure[i] >= vStart && closure[i] < vEnd) ids->push_back(vertexNatural[closure[i] - vStart]);
-  PetscCall(DMPlexRestoreTransitiveClosure(dm, p, PETSC_TRUE, &n, &closure));
-  PetscFunctionReturn(0);
 }
 
 // The rows of one label of the serial mesh (rank 0): a row per labelled cell, and a row per labelled lower-dimensional
@@ -196,6 +182,38 @@ PetscErrorCode receiveLabelRows(MPI_Comm comm, hid_t file, const std::string &na
   PetscFunctionReturn(0);
 }
 
+// The natural id of each local vertex of a mesh built by DMPlexCreateFromCellListParallelPetsc: its vertex SF has a
+// leaf per local vertex (in the DM's vertex order) whose root is the vertex's row in its owner's block.
+PetscErrorCode vertexNaturalIds(MPI_Comm comm, PetscSF vertexSF, PetscInt blockStart, std::vector<PetscInt> *ids) {
+  PetscMPIInt size;
+  PetscInt nroots, nleaves;
+  const PetscInt *local;
+  const PetscSFNode *remote;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  std::vector<PetscInt> starts(size);
+  PetscCallMPI(MPI_Allgather(&blockStart, 1, MPIU_INT, starts.data(), 1, MPIU_INT, comm));
+  PetscCall(PetscSFGetGraph(vertexSF, &nroots, &nleaves, &local, &remote));
+  ids->assign(nleaves, -1);
+  for (PetscInt k = 0; k < nleaves; ++k) (*ids)[local ? local[k] : k] = starts[remote[k].rank] + remote[k].index;
+  PetscFunctionReturn(0);
+}
+
+}  // namespace
+
+// Vertices of point p in its closure order, as natural ids (vertexNatural[v - vStart]).
+PetscErrorCode closureVertices(DM dm, PetscInt p, PetscInt vStart, PetscInt vEnd, const PetscInt *vertexNatural,
+                               std::vector<long long> *ids) {
+  PetscInt n, *closure = nullptr;
+  PetscFunctionBeginUser;
+  ids->clear();
+  PetscCall(DMPlexGetTransitiveClosure(dm, p, PETSC_TRUE, &n, &closure));
+  for (PetscInt i = 0; i < 2 * n; i += 2)
+    if (closure[i] >= vStart && closure[i] < vEnd) ids->push_back(vertexNatural[closure[i] - vStart]);
+  PetscCall(DMPlexRestoreTransitiveClosure(dm, p, PETSC_TRUE, &n, &closure));
+  PetscFunctionReturn(0);
+}
+
 // Labels this rank's copies of the rows' points: each row names a local cell (natural id in this rank's cell block),
 // itself (cell rows: cols 2) or the point of its closure with the row's dimension and vertices (cols 6).
 PetscErrorCode applyLabelRows(DM dm, DMLabel label, const std::vector<long long> &rows, int cols, PetscInt firstCell,
@@ -236,24 +254,6 @@ PetscErrorCode applyLabelRows(DM dm, DMLabel label, const std::vector<long long>
   PetscFunctionReturn(0);
 }
 
-// The natural id of each local vertex of a mesh built by DMPlexCreateFromCellListParallelPetsc: its vertex SF has a
-// leaf per local vertex (in the DM's vertex order) whose root is the vertex's row in its owner's block.
-PetscErrorCode vertexNaturalIds(MPI_Comm comm, PetscSF vertexSF, PetscInt blockStart, std::vector<PetscInt> *ids) {
-  PetscMPIInt size;
-  PetscInt nroots, nleaves;
-  const PetscInt *local;
-  const PetscSFNode *remote;
-  PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_size(comm, &size));
-  std::vector<PetscInt> starts(size);
-  PetscCallMPI(MPI_Allgather(&blockStart, 1, MPIU_INT, starts.data(), 1, MPIU_INT, comm));
-  PetscCall(PetscSFGetGraph(vertexSF, &nroots, &nleaves, &local, &remote));
-  ids->assign(nleaves, -1);
-  for (PetscInt k = 0; k < nleaves; ++k) (*ids)[local ? local[k] : k] = starts[remote[k].rank] + remote[k].index;
-  PetscFunctionReturn(0);
-}
-
-}  // namespace
 
 // A converted mesh, read by every rank in parallel: each rank reads a block of the cells and of the vertices, builds
 // its share of the mesh from them, and labels it; the natural id of every point comes from the blocks (cells) and the
@@ -351,7 +351,9 @@ PetscErrorCode convertMesh(MPI_Comm comm, const std::string &out) {
             out.c_str());
   DM serial = nullptr;
   std::vector<PetscInt> natural;
-  PetscCall(readGmshMesh(comm, &mesh, &serial, &natural));
+  bool deferred = false;  // the converter reads every face on rank 0
+  std::vector<long long> noRows;
+  PetscCall(readGmshMesh(comm, &mesh, &serial, &natural, false, &deferred, &noRows));
   mesh.dm = serial;
   PetscCall(DMPlexGetHeightStratum(serial, 0, &mesh.cStart, &mesh.cEnd));
   PetscCall(DMPlexGetDepthStratum(serial, 0, &mesh.vStart, &mesh.vEnd));

@@ -18,11 +18,35 @@ PetscErrorCode classifyCells(DM dm, Mesh *mesh);
 // "dim tag name" lines (rank 0's blob, broadcast) parsed into the mesh's physical names.
 PetscErrorCode parsePhysicalNames(MPI_Comm comm, std::string blob, std::map<std::string, Mesh::PhysicalGroup> *names);
 // The gmsh file -dm_plex_filename read on rank 0: its serial DM, the natural id of every point of its chart (cell or
-// vertex number, -1 for others), the physical names and the global counts.
-PetscErrorCode readGmshMesh(MPI_Comm comm, Mesh *mesh, DM *serial, std::vector<PetscInt> *natural);
+// vertex number, -1 for others), the physical names and the global counts. With mayDeferFaces, a mesh whose faces and
+// edges can be made after distribution (-mesh_faces) is read as cells and vertices only (*deferred): facetRows (rank
+// 0) then holds its tagged faces for labelGmshFacets.
+PetscErrorCode readGmshMesh(MPI_Comm comm, Mesh *mesh, DM *serial, std::vector<PetscInt> *natural, bool mayDeferFaces,
+                            bool *deferred, std::vector<long long> *facetRows);
+// PETSc's gmsh reader on rank 0 (fem/mesh_facets.cpp): a 3D mesh whose tagged faces `facets` holds (and PETSc's
+// default gmsh labels) as cells and vertices only, when mayDeferFaces (*deferred; facetRows: rank 0's rows of its tagged
+// faces); any other mesh with its faces and edges. Collective.
+PetscErrorCode readGmshSerial(MPI_Comm comm, const Mesh &mesh, const GmshFacets &facets, bool mayDeferFaces,
+                              DM *serial, bool *deferred, std::vector<long long> *facetRows);
+// Collective: "Face Sets" of the distributed, interpolated mesh->dm from rank 0's rows (natural ids: mesh->naturalCell
+// and naturalVertex must be set).
+PetscErrorCode labelGmshFacets(MPI_Comm comm, Mesh *mesh, std::vector<long long> rows);
 bool isHdf5Mesh(const std::string &file);
 // A mesh converted by convertMesh, read by all ranks in parallel; `natural` as for readGmshMesh, per loaded point.
 PetscErrorCode readHdf5Mesh(MPI_Comm comm, Mesh *mesh, DM *dm, std::vector<PetscInt> *natural);
+// Label rows on faces, edges and vertices (the HDF5 mesh format, and the facets of a gmsh mesh interpolated after it
+// is distributed): one row per (point, cell that contains it): the cell's id, the point's dimension, the label value
+// and the point's vertex ids (natural, sorted, the first three, -1 padded). Three ids name a face of a hexahedron too.
+constexpr int kPointLabelCols = 6;
+// Vertices of point p in its closure order, as natural ids (vertexNatural[v - vStart]).
+PetscErrorCode closureVertices(DM dm, PetscInt p, PetscInt vStart, PetscInt vEnd, const PetscInt *vertexNatural,
+                               std::vector<long long> *ids);
+// Labels this rank's copies of the rows' points: each row names a local cell (its id minus firstCell: the index among
+// the local cells), itself (cell rows: cols 2) or the point of its closure with the row's dimension and vertices (cols
+// kPointLabelCols); ok turns false for a row that names no local cell or no such point.
+PetscErrorCode applyLabelRows(DM dm, DMLabel label, const std::vector<long long> &rows, int cols, PetscInt firstCell,
+                              const PetscInt *vertexNatural, bool *ok);
+
 // Partitions for DMPlexDistribute through PETSc's shell partitioner: METIS k-way of the dual graph (the mesh must be on
 // rank 0) and recursive coordinate bisection of the cell centroids (any distribution, deterministic).
 PetscErrorCode setMetisPartition(DM dm, PetscPartitioner part);

@@ -25,6 +25,39 @@ PetscErrorCode setShellPartition(PetscPartitioner part, PetscMPIInt size, const 
   PetscFunctionReturn(0);
 }
 
+// The dual graph of the cells of a mesh held as cells and vertices (rank 0 may hold all of it, the others none), by
+// METIS_MeshToDual: cells are neighbours when they share as many corners as a face has (3 for tetrahedra, 4 for
+// hexahedra, 2 for triangles). The arrays are METIS's (METIS_Free).
+PetscErrorCode cornerDualGraph(DM dm, PetscInt *numCells, idx_t **offsets, idx_t **adjacency) {
+  PetscInt cStart, cEnd, vStart, vEnd, dim;
+  PetscFunctionBeginUser;
+  PetscCall(DMPlexGetHeightStratum(dm, 0, &cStart, &cEnd));
+  PetscCall(DMPlexGetDepthStratum(dm, 0, &vStart, &vEnd));
+  PetscCall(DMGetDimension(dm, &dim));
+  *numCells = cEnd - cStart;
+  if (*numCells == 0) PetscFunctionReturn(0);
+  std::vector<idx_t> cellStart(1, 0), corners;
+  PetscInt firstConeSize = 0;
+  for (PetscInt c = cStart; c < cEnd; ++c) {
+    PetscInt coneSize;
+    const PetscInt *cone;
+    PetscCall(DMPlexGetConeSize(dm, c, &coneSize));
+    PetscCall(DMPlexGetCone(dm, c, &cone));
+    if (c == cStart) firstConeSize = coneSize;
+    for (PetscInt k = 0; k < coneSize; ++k) corners.push_back(static_cast<idx_t>(cone[k] - vStart));
+    cellStart.push_back(static_cast<idx_t>(corners.size()));
+  }
+  idx_t ne = static_cast<idx_t>(*numCells), nn = static_cast<idx_t>(vEnd - vStart), numbering = 0;
+  idx_t common = dim == 3 ? (firstConeSize == 8 ? 4 : 3) : 2;
+  const int status = METIS_MeshToDual(&ne, &nn, cellStart.data(), corners.data(), &common, &numbering, offsets,
+                                      adjacency);
+  PetscCheck(status == METIS_OK, PETSC_COMM_SELF, PETSC_ERR_LIB, "METIS_MeshToDual failed (status %d)", status);
+  // each cell's neighbours in increasing order, as PETSc's graph of the mesh with faces lists them: the same graph,
+  // so the same partition whether the faces are made before or after distribution (-mesh_faces)
+  for (idx_t c = 0; c < ne; ++c) std::sort(*adjacency + (*offsets)[c], *adjacency + (*offsets)[c + 1]);
+  PetscFunctionReturn(0);
+}
+
 }  // namespace
 
 // METIS k-way partition of the serial mesh's dual graph on rank 0, handed to the shell partitioner.
@@ -36,7 +69,16 @@ PetscErrorCode setMetisPartition(DM dm, PetscPartitioner part) {
   PetscFunctionBeginUser;
   PetscCall(PetscObjectGetComm((PetscObject)dm, &comm));
   PetscCallMPI(MPI_Comm_size(comm, &size));
-  PetscCall(DMPlexCreatePartitionerGraph(dm, 0, &nv, &offsets, &adjacency, &globalNumbering));
+  PetscInt depth;
+  PetscCall(DMPlexGetDepth(dm, &depth));
+  idx_t *dualOffsets = nullptr, *dualAdjacency = nullptr;  // METIS's, for a mesh of cells and vertices only
+  if (depth > 1) {
+    PetscCall(DMPlexCreatePartitionerGraph(dm, 0, &nv, &offsets, &adjacency, &globalNumbering));
+  } else {
+    // No faces (fem/mesh_facets.cpp): METIS's dual graph from the corners, cells sharing a face's number of corners
+    // being face neighbours (PETSc's graph of a mesh without faces compares every pair of cells around a vertex).
+    PetscCall(cornerDualGraph(dm, &nv, &dualOffsets, &dualAdjacency));
+  }
   std::vector<idx_t> partOf(nv, 0);
   if (nv > 0) {
     idx_t nvtxs = nv, ncon = 1, nparts = size, objval = 0;
@@ -44,7 +86,8 @@ PetscErrorCode setMetisPartition(DM dm, PetscPartitioner part) {
     METIS_SetDefaultOptions(options);
     options[METIS_OPTION_SEED] = 42;  // deterministic partitions
     options[METIS_OPTION_NUMBERING] = 0;
-    const int status = METIS_PartGraphKway(&nvtxs, &ncon, offsets, adjacency, nullptr, nullptr, nullptr, &nparts,
+    const int status = METIS_PartGraphKway(&nvtxs, &ncon, depth > 1 ? offsets : dualOffsets,
+                                           depth > 1 ? adjacency : dualAdjacency, nullptr, nullptr, nullptr, &nparts,
                                            nullptr, nullptr, options, &objval, partOf.data());
     PetscCheck(status == METIS_OK, comm, PETSC_ERR_LIB, "METIS_PartGraphKway failed (status %d)", status);
   }
@@ -52,6 +95,8 @@ PetscErrorCode setMetisPartition(DM dm, PetscPartitioner part) {
   PetscCall(PetscFree(offsets));
   PetscCall(PetscFree(adjacency));
   PetscCall(ISDestroy(&globalNumbering));
+  if (dualOffsets) METIS_Free(dualOffsets);
+  if (dualAdjacency) METIS_Free(dualAdjacency);
   PetscFunctionReturn(0);
 }
 
