@@ -21,7 +21,8 @@ wall_s; DOLFINx: SNESSolve, after the forms' JIT compile, which is cached) and t
 face's reaction force; and the distance between the two codes' solutions (vertices matched by rest position): the
 materials differ at finite strain, so the distance says by how much on this problem. `run` keeps every run's files in
 out/peer/ (a run with the same command line and a finished result is read back); `report` writes docs/peer.md and its
-chart docs/images/results/peer.png from them. Timings are medians over --repeat runs of the same configuration.
+chart docs/images/results/peer.png from them. Timings are medians over --repeat runs of each configuration, made in
+rounds (every configuration of a size and rank count once per round), so that the codes are timed side by side.
 """
 import argparse
 import csv
@@ -93,14 +94,24 @@ def run_dir(code, size, ranks, variant):
     return os.path.join(WORK, "%s_%s_%s_n%d" % (code, variant, size, ranks))
 
 
-def finished(d, cmd):
-    """A finished run with this command line (read back instead of run again)."""
+def finished(d, cmd, rounds=1):
+    """A run of this command line with at least `rounds` timed samples, or a failed one (read back instead of run
+    again)."""
     meta = os.path.join(d, "meta.json")
     if not os.path.exists(meta):
         return None
     with open(meta) as fh:
         m = json.load(fh)
-    return m if m.get("cmd") == cmd else None
+    if m.get("cmd") != cmd:
+        return None
+    return m if m.get("exit") != 0 or m.get("repeats", 1) >= rounds else None
+
+
+def earlier_samples(d, cmd, keys):
+    """The timed samples of the earlier rounds of this command line (lists per key; empty for a new command)."""
+    m = finished(d, cmd)
+    samples = (m or {}).get("samples") if m and m.get("exit") == 0 else None
+    return samples if samples and all(k in samples for k in keys) else {k: [] for k in keys}
 
 
 def launch(cmd, d, timeout):
@@ -116,20 +127,8 @@ def launch(cmd, d, timeout):
     return code, time.time() - t0
 
 
-def repeated(cmd, d, timeout, repeat, read):
-    """The command up to `repeat` times (until one fails): exit codes, wall times and read() after each success."""
-    exits, walls, reads = [], [], []
-    for _ in range(repeat):
-        code, wall = launch(cmd, d, timeout)
-        exits.append(code)
-        if code != 0:
-            break
-        walls.append(wall)
-        reads.append(read())
-    return exits, walls, reads
-
-
-def run_aries(binary, msh, size, ranks, variant, extra, timeout, repeat):
+def run_aries(binary, msh, size, ranks, variant, extra, timeout, rounds):
+    """One more run of the configuration unless it has `rounds` samples; its meta (medians over the samples)."""
     d = run_dir("aries", size, ranks, variant)
     base = os.path.join(d, "box")
     args = ["-dm_plex_filename", msh, "-energy", "iarap", "-E", str(E), "-nu", str(NU), "-integrator", "static",
@@ -137,18 +136,23 @@ def run_aries(binary, msh, size, ranks, variant, extra, timeout, repeat):
             "-ksp_rtol", str(KSP_RTOL), "-output", base, "-output_fields", "J", "-stats", base + ".csv",
             "-newton_history", base + "_newton.csv", "-reactions", base + "_reactions.csv"] + extra
     cmd = ["mpiexec", "-n", str(ranks), "--bind-to", "none", binary] + args
-    done = finished(d, cmd)
+    done = finished(d, cmd, rounds)
     if done:
         return done
-    def step_wall():
+    samples = earlier_samples(d, cmd, ("total_s", "solve_s", "setup_s"))
+    code, wall = launch(cmd, d, timeout)
+    if code == 0:
         with open(base + ".csv") as fh:
-            return float(next(csv.DictReader(l for l in fh if not l.startswith("#")))["wall_s"])
-    exits, walls, steps = repeated(cmd, d, timeout, repeat, step_wall)
-    meta = {"cmd": cmd, "exit": exits[-1], "code": "aries", "variant": variant, "size": size, "ranks": ranks,
-            "total_s": statistics.median(walls) if walls else None,
-            "solve_s": statistics.median(steps) if steps else None, "repeats": len(walls),
+            step = float(next(csv.DictReader(l for l in fh if not l.startswith("#")))["wall_s"])
+        with open(os.path.join(d, "log.txt")) as fh:
+            setup = re.search(r"wall time setup ([0-9.]+) s", fh.read())
+        for k, x in (("total_s", wall), ("solve_s", step), ("setup_s", float(setup.group(1)) if setup else None)):
+            samples[k].append(x)
+    meta = {"cmd": cmd, "exit": code, "code": "aries", "variant": variant, "size": size, "ranks": ranks,
+            "repeats": len(samples["total_s"]), "samples": samples,
             "finished": datetime.datetime.utcnow().strftime("%Y-%m-%d %H:%M UTC")}
-    if exits[-1] == 0:
+    meta.update({k: statistics.median(v) if v and None not in v else None for k, v in samples.items()})
+    if code == 0:
         with open(base + ".csv") as fh:
             lines = fh.read().splitlines()
         row = next(csv.DictReader(l for l in lines if not l.startswith("#")))
@@ -172,28 +176,30 @@ def run_aries(binary, msh, size, ranks, variant, extra, timeout, repeat):
     return meta
 
 
-def run_dolfinx(msh, size, ranks, pc, timeout, repeat):
+def run_dolfinx(msh, size, ranks, pc, timeout, rounds):
+    """As run_aries, for DOLFINx."""
     d = run_dir("dolfinx", size, ranks, pc)
     out = os.path.join(d, "result.json")
     cmd = ["mpiexec", "-n", str(ranks), "--bind-to", "none", "/usr/bin/python3", os.path.join(BENCH, "peer_dolfinx.py"),
            msh, out, "--pc", pc, "--disp", str(DISP), "--E", str(E), "--nu", str(NU), "--ksp-rtol", str(KSP_RTOL),
            "--npz", os.path.join(d, "solution.npz")]
-    done = finished(d, cmd)
+    done = finished(d, cmd, rounds)
     if done:
         return done
-    def result():
+    samples = earlier_samples(d, cmd, ("total_s", "solve_s", "setup_s"))
+    code, wall = launch(cmd, d, timeout)
+    meta = {"cmd": cmd, "exit": code, "code": "dolfinx", "variant": pc, "size": size, "ranks": ranks,
+            "finished": datetime.datetime.utcnow().strftime("%Y-%m-%d %H:%M UTC")}
+    if code == 0:
         with open(out) as fh:
-            return json.load(fh)
-    exits, walls, results = repeated(cmd, d, timeout, repeat, result)
-    meta = {"cmd": cmd, "exit": exits[-1], "code": "dolfinx", "variant": pc, "size": size, "ranks": ranks,
-            "finished": datetime.datetime.utcnow().strftime("%Y-%m-%d %H:%M UTC"), "repeats": len(results)}
-    if results:
-        r = results[-1]
+            r = json.load(fh)
+        for k, x in (("total_s", wall), ("solve_s", r["solve_s"]), ("setup_s", r["setup_s"])):
+            samples[k].append(x)
         meta.update(newton=r["newton"], linear_solves=r["linear_solves"], krylov=r["krylov"],
                     reason=r["reason"], build=r["code"], step_inf=r["step_inf"], top_force=r["top_force"],
-                    residual=r["residual"], pc="CG + GAMG" if pc == "gamg" else "CG + Jacobi",
-                    solve_s=statistics.median(x["solve_s"] for x in results),
-                    total_s=statistics.median(walls))
+                    residual=r["residual"], pc="CG + GAMG" if pc == "gamg" else "CG + Jacobi")
+        meta.update({k: statistics.median(v) for k, v in samples.items()})
+    meta.update(repeats=len(samples["total_s"]), samples=samples)
     with open(os.path.join(d, "meta.json"), "w") as fh:
         json.dump(meta, fh, indent=1)
     return meta
@@ -247,17 +253,23 @@ def run_all(sizes, ranks, variants, dolfinx_pcs, binary, before=None, timeout=36
     for size in sizes:
         msh = scenes.generate("box", size)
         for n in ranks:
-            for pc in dolfinx_pcs:
-                m = run_dolfinx(msh, size, n, pc, timeout, repeat)
-                print("dolfinx %s %s n%d: %s" % (pc, size, n, summary(m)), flush=True)
-                metas.append(m)
-            for v in variants:
-                other = before and v.startswith("before")
-                binv = os.path.abspath(before) if other else binary
-                extra = VARIANTS[v][2:] if other else VARIANTS[v]
-                m = run_aries(binv, h5_mesh(size) if v in H5_VARIANTS else msh, size, n, v, extra, timeout, repeat)
-                print("aries %s %s n%d: %s" % (v, size, n, summary(m)), flush=True)
-                metas.append(m)
+            # every configuration once per round (DOLFINx, aries, DOLFINx, aries, ...): a drift in the machine's speed
+            # falls on all of them alike, and the medians compare runs made side by side
+            for r in range(1, repeat + 1):
+                last = r == repeat
+                for pc in dolfinx_pcs:
+                    m = run_dolfinx(msh, size, n, pc, timeout, r)
+                    if last:
+                        print("dolfinx %s %s n%d: %s" % (pc, size, n, summary(m)), flush=True)
+                        metas.append(m)
+                for v in variants:
+                    other = before and v.startswith("before")
+                    binv = os.path.abspath(before) if other else binary
+                    extra = VARIANTS[v][2:] if other else VARIANTS[v]
+                    m = run_aries(binv, h5_mesh(size) if v in H5_VARIANTS else msh, size, n, v, extra, timeout, r)
+                    if last:
+                        print("aries %s %s n%d: %s" % (v, size, n, summary(m)), flush=True)
+                        metas.append(m)
     return metas
 
 
@@ -280,8 +292,21 @@ def load_all():
             meta = os.path.join(WORK, d, "meta.json")
             if os.path.exists(meta):
                 with open(meta) as fh:
-                    runs.append(json.load(fh))
+                    m = json.load(fh)
+                if m.get("exit") == 0 and m.get("setup_s") is None:  # runs made before the setup was recorded
+                    m["setup_s"] = recorded_setup(os.path.join(WORK, d), m["code"])
+                runs.append(m)
     return runs
+
+
+def recorded_setup(d, code):
+    """The setup time a finished run wrote: aries' log line, DOLFINx's result file; None if neither says."""
+    if code == "dolfinx":
+        with open(os.path.join(d, "result.json")) as fh:
+            return json.load(fh).get("setup_s")
+    with open(os.path.join(d, "log.txt")) as fh:
+        setup = re.search(r"wall time setup ([0-9.]+) s", fh.read())
+    return float(setup.group(1)) if setup else None
 
 
 PROBLEM = ("The problem: a box 1 x 1 x 2 (meshes/generate.sh box SIZE), bottom held, top moved by 0.2 (10%) in one "
@@ -289,8 +314,9 @@ PROBLEM = ("The problem: a box 1 x 1 x 2 (meshes/generate.sh box SIZE), bottom h
            "elasticity at small strain); CG at -ksp_rtol 1e-8 in both. Newton = updates of the state, solves = "
            "linear solves (aries: the one that certifies convergence included; DOLFINx newtonls: one per update, "
            "converged on PETSc's default relative residual 1e-8). Solve = the nonlinear solve's wall time (aries: "
-           "the step; DOLFINx: SNESSolve after the JIT compile), total = the whole process (mesh input, setup, "
-           "output). aries rows: `default` = aries' defaults (the preconditioner by its rule: GAMG from "
+           "the step; DOLFINx: SNESSolve after the JIT compile), setup = from the start to the solve (aries: its "
+           "`wall time setup`, mesh input included; DOLFINx: mesh input, function spaces, forms), total = the whole "
+           "process (mesh input, setup, output). aries rows: `default` = aries' defaults (the preconditioner by its rule: GAMG from "
            "-multigrid_min_dofs free DoFs), `gamg` = GAMG at every size (-multigrid_min_dofs 0), `jacobi` = "
            "-pc_type jacobi, `default_h5` = the defaults with the same mesh converted once to HDF5 (meshes/generate.sh "
            "h5 box SIZE, not timed: read by every rank in parallel, where a .msh is read by rank 0 and distributed; "
@@ -308,9 +334,9 @@ def index(metas):
 
 
 def rank_table(find, sizes, cells, n):
-    lines = ["| tets | code | variant | linear solver | Newton | solves | Krylov | solve s | total s | "
+    lines = ["| tets | code | variant | linear solver | Newton | solves | Krylov | setup s | solve s | total s | "
              "solves / DOLFINx Newton | solve time / DOLFINx | total / DOLFINx | reason |",
-             "|---:|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
+             "|---:|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
     for s in sizes:
         for code, variants in (("dolfinx", ["gamg", "jacobi"]), ("aries", list(VARIANTS))):
             for v in variants:
@@ -324,9 +350,10 @@ def rank_table(find, sizes, cells, n):
                     ratio_t = "%.2f" % (m["solve_s"] / peer["solve_s"])
                     ratio_w = "%.2f" % (m["total_s"] / peer["total_s"])
                 reason = m["reason"] if code == "aries" else ("converged (%d)" % m["reason"])
-                lines.append("| %s | %s | %s | %s | %d | %d | %d | %.2f | %.2f | %s | %s | %s | %s |" % (
+                setup = "%.2f" % m["setup_s"] if m.get("setup_s") is not None else "-"
+                lines.append("| %s | %s | %s | %s | %d | %d | %d | %s | %.2f | %.2f | %s | %s | %s | %s |" % (
                     "{:,}".format(cells[s]), "DOLFINx" if code == "dolfinx" else "aries", v, m["pc"],
-                    m["newton"], m["linear_solves"], m["krylov"], m["solve_s"], m["total_s"], ratio_n,
+                    m["newton"], m["linear_solves"], m["krylov"], setup, m["solve_s"], m["total_s"], ratio_n,
                     ratio_t, ratio_w, reason))
     return lines
 
