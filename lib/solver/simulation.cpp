@@ -221,6 +221,22 @@ PetscErrorCode Simulation::setLoad(double s) {
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode Simulation::moveSupportsAlone(double loadTarget, PetscInt halvings, bool *moved) {
+  PetscFunctionBeginUser;
+  const double s0 = disc_->load();
+  std::vector<double> ref;
+  PetscCall(newton_.alphasAt(x_, &ref));
+  *moved = false;
+  double sTry = loadTarget;
+  for (PetscInt k = 0; k <= halvings && !*moved; ++k) {
+    if (k > 0) sTry = s0 + 0.5 * (sTry - s0);
+    PetscCall(setLoad(sTry));
+    PetscCall(newton_.alphaAcceptable(x_, ref, moved));
+  }
+  if (!*moved) PetscCall(setLoad(s0));
+  PetscFunctionReturn(0);
+}
+
 // Newton solves from the current state to the prescribed load `loadTarget`. With -lift_increments (the default) the
 // increment enters the solve (NewtonSolver::solve with a target, lifted_increment.cpp): one solve per step unless the
 // safeguard kept shortening its lifted updates (the rest of the increment is then another solve from the load reached,
@@ -239,13 +255,7 @@ PetscErrorCode Simulation::solveToLoad(double loadTarget, NewtonResult *acc, boo
     // Backward Euler under -lift_increments auto: the supports move alone where the safeguard accepts that move (as
     // without lifting); only a move it rejects is lifted (NewtonSolver::supportsAloneFirst).
     bool movedAlone = false;
-    if (s0 != loadTarget && newton_.supportsAloneFirst()) {
-      std::vector<double> ref;
-      PetscCall(newton_.alphasAt(x_, &ref));
-      PetscCall(setLoad(loadTarget));
-      PetscCall(newton_.alphaAcceptable(x_, ref, &movedAlone));
-      if (!movedAlone) PetscCall(setLoad(s0));
-    }
+    if (s0 != loadTarget && newton_.supportsAloneFirst()) PetscCall(moveSupportsAlone(loadTarget, 0, &movedAlone));
     if (s0 != loadTarget && !movedAlone) {
       NewtonResult r;
       bool advanced = false;
@@ -264,25 +274,17 @@ PetscErrorCode Simulation::solveToLoad(double loadTarget, NewtonResult *acc, boo
         continue;
       }
     }
-    double sTry = loadTarget;
-    if (sTry != s0 && !movedAlone) {
-      std::vector<double> ref;
-      PetscCall(newton_.alphasAt(x_, &ref));
+    if (loadTarget != s0 && !movedAlone) {
       bool acceptable = false;
-      for (PetscInt k = 0; k <= opts_.maxLoadHalvings && !acceptable; ++k) {
-        if (k > 0) sTry = s0 + 0.5 * (sTry - s0);
-        PetscCall(setLoad(sTry));
-        PetscCall(newton_.alphaAcceptable(x_, ref, &acceptable));
-      }
+      PetscCall(moveSupportsAlone(loadTarget, opts_.maxLoadHalvings, &acceptable));
       // No increment of the prescribed motion keeps every alpha acceptable: the boundary motion cannot be followed
       // within the safeguard.
       if (!acceptable) {
-        PetscCall(setLoad(s0));
         *ok = false;
         *reason = "safeguard_load";
         PetscFunctionReturn(0);
       }
-      if (sTry != loadTarget) ++loadSubsteps_;
+      if (disc_->load() != loadTarget) ++loadSubsteps_;
     }
     NewtonResult r;
     PetscCall(PetscLogStagePush(solveStage_));
@@ -294,7 +296,7 @@ PetscErrorCode Simulation::solveToLoad(double loadTarget, NewtonResult *acc, boo
       *ok = false;
       PetscFunctionReturn(0);
     }
-    if (sTry == loadTarget) break;
+    if (disc_->load() == loadTarget) break;
   }
   PetscFunctionReturn(0);
 }

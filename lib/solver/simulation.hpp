@@ -123,6 +123,9 @@ class Simulation {
   PetscErrorCode advance(double dt, double loadTarget, int depth, NewtonResult *acc, bool *ok, std::string *reason);
   PetscErrorCode startFromPrediction();
   PetscErrorCode setLoad(double s);
+  // The supports alone moved from the current load towards loadTarget: the whole increment, then halves of it (at most
+  // `halvings`), until every alpha stays acceptable; *moved: one did (the load is there), else the load is unchanged.
+  PetscErrorCode moveSupportsAlone(double loadTarget, PetscInt halvings, bool *moved);
   PetscErrorCode solveToLoad(double loadTarget, NewtonResult *acc, bool *ok, std::string *reason);
 
   fem::Discretization *disc_ = nullptr;
