@@ -2,13 +2,16 @@
 """The verification study: aries against exact solutions and published small-strain values, with the observed
 convergence order on three or more meshes. Writes docs/verification.md (generated; do not edit by hand).
 
-  /usr/bin/python3 bench/verification.py [--build build] [--ranks 2] [--out out/verification]
+  /usr/bin/python3 bench/verification.py [--build build] [--ranks 2] [--out out/verification] [--only P1,P2,...]
 
 Problems (each a function below, its reference in its docstring and in the report):
   end_traction   unit cube, bottom clamped, dead traction on the top: uniform stretch (exact), iarap / fiber / ortho
   simple_shear   unit cube, simple shear g = 0.5 on its boundary: the homogeneous state and its stress, iarap / fiber
   hanging_bar    unit cube hanging from its top under its own weight: uniaxial, exact, iarap / fiber / ortho
   lame_sphere    thick sphere (a = 0.5, b = 1) under internal follower pressure, small strain: Lame's u_r(r)
+  lame_elements  the same on P1, P2 and hexahedra (a cubed sphere)
+  thick_cylinder Lame's thick cylinder in plane strain, dead pressure on the open inner wall: P1, P2, hexahedra
+  inflation      the sphere inflated by 40-60% (iarap, radially fibered fiber) against the radial equilibrium ODE
   cantilever     a plane-stress cantilever under an end load against Timoshenko beam theory
   cook_membrane  Cook's membrane, plane stress, small strain: the vertical displacement at the right edge's midpoint
                  against 23.96, on planar triangles and as a thin 3D slab (symmetry plane held in z)
@@ -261,6 +264,177 @@ def lame_sphere():
     return ("Lame's thick sphere under internal pressure (small strain)", lame_sphere.__doc__,
             table(["mesh", "tets", "h", "u_r(a) mean", "Lame u_r(a)", "error", "order", "max vertex error",
                    "Newton / step", "solve s"], rows))
+
+
+def cells_of(name, size):
+    with open(mesh(name, size)[:-4] + ".json") as fh:
+        d = json.load(fh)
+    return d.get("tets", d.get("hexes"))
+
+
+# Each volume element on the thick sphere: (label, mesh name, sizes (size, h), extra options). h: the mesh's cell size
+# (tets: gmsh's target edge; the cubed sphere: its radial layer 0.5 / (n / 2)).
+SPHERE_ELEMENTS = [
+    ("P1", "shell", [("test", 0.2), ("default", 0.1), ("fine3", 0.07)], []),
+    ("P2", "shell", [("test", 0.2), ("default", 0.1), ("fine3", 0.07)], ["-element", "p2"]),
+    ("Q1 hex", "shell_hex", [("test", 0.25), ("default", 0.125), ("s12", 0.25 / 3), ("s16", 0.0625)], []),
+]
+
+
+def radial_errors(rest, x, ur_ref, a):
+    """(cavity's mean radial displacement error, largest vertex error) relative to the reference's u_r(a), after
+    removing the mean translation (the body is free)."""
+    u = x - rest
+    u -= u.mean(0)
+    r = np.linalg.norm(rest, axis=1)
+    ur = np.einsum("ij,ij->i", u, rest) / r
+    inner = r < a + 1e-6
+    return (abs(ur[inner].mean() - ur_ref(a)) / ur_ref(a), np.abs(ur - ur_ref(r)).max() / ur_ref(a),
+            ur[inner].mean())
+
+
+def radial_series(problem, label, rows, series, column):
+    """Records one element's series (h, the u_r(a) errors, the largest node errors, solve times) for the charts and
+    fills the order columns of its last rows of the table: `column` the u_r(a) error's order, `column` + 2 the largest
+    node error's."""
+    hs, errs, vmaxs, ts = series
+    record(problem, label, hs, vmaxs, ts, "largest vertex error of u_r / u_r(a)")
+    first = len(rows) - len(hs)
+    for k, (o, ov) in enumerate(zip(orders(hs, errs), orders(hs, vmaxs))):
+        rows[first + k][column] = o
+        rows[first + k][column + 2] = ov
+
+
+def lame_elements():
+    """Lame's thick sphere (a = 0.5, b = 1, iarap E = 1e4, nu = 0.3, follower pressure p = 10 on the cavity, the body
+    free) on every volume element: P1 and P2 tetrahedra on the gmsh shells (meshes/generate.sh shell; P2's edge nodes
+    at the straight edges' middles, so its cavity is the same polyhedron as P1's) and trilinear hexahedra on a cubed
+    sphere (meshes/generate.sh shell_hex: n x n cells per cube face, n/2 radial layers). Reference: Lame's u_r(r)
+    (Timoshenko & Goodier, Theory of Elasticity, 3rd ed., 1970, Sec. 137). Errors relative to u_r(a): the cavity
+    wall's mean, and the largest over every node (corners and P2 edge nodes) against u_r at the node's rest radius."""
+    E, nu, p, a, b = 1e4, 0.3, 10.0, 0.5, 1.0
+    ur_exact = lambda r: p * a ** 3 / (E * (b ** 3 - a ** 3)) * ((1 - 2 * nu) * r + (1 + nu) * b ** 3 / (2 * r ** 2))
+    rows = []
+    for label, name, sizes, extra in SPHERE_ELEMENTS:
+        hs, errs, vmaxs, ts = [], [], [], []
+        for size, h in sizes:
+            rest, x, st, wall = run("lame_%s_%s" % (name, size) + ("_p2" if extra else ""), [
+                "-dm_plex_filename", mesh(name, size), "-energy", "iarap", "-E", str(E), "-nu", str(nu),
+                "-load_pressure_inner", str(p), "-steps", "1", "-newton_tol", "1e-10"] + extra)
+            err, vmax, _ = radial_errors(rest, x, ur_exact, a)
+            hs.append(h)
+            errs.append(err)
+            vmaxs.append(vmax)
+            ts.append(wall)
+            rows.append([label, size, "%d" % cells_of(name, size), "%d" % len(rest), "%.3g" % h,
+                         "%.3f%%" % (100 * err), "", "%.3f%%" % (100 * vmax), "", "%.2f" % wall])
+        radial_series("Lame sphere elements", label, rows, (hs, errs, vmaxs, ts), 6)
+    return ("Lame's thick sphere on every volume element (small strain)", lame_elements.__doc__,
+            table(["element", "mesh", "cells", "nodes", "h", "u_r(a) error", "order", "max node error", "order",
+                   "solve s"], rows))
+
+
+def thick_cylinder():
+    """Lame's thick cylinder in plane strain: a quarter of the tube with inner radius a = 1 and outer b = 2, one cell
+    layer in z (meshes/generate.sh tube / tube_hex: n cells across the wall, about square ones around it; every node
+    on its circle), rollers on the cut faces (x = 0 held in x, y = 0 in y) and on both ends (z), a dead pressure
+    p = 10 (1e-3 E) on the open inner wall (-load_pressure_inner_kind dead), iarap E = 1e4, nu = 0.3. Reference:
+    u_r(r) = (1 + nu) p a^2 / (E (b^2 - a^2)) ((1 - 2 nu) r + b^2 / r) (Timoshenko & Goodier, Sec. 28). Errors as for
+    the sphere, relative to u_r(a)."""
+    E, nu, p, a, b = 1e4, 0.3, 10.0, 1.0, 2.0
+    ur_exact = lambda r: (1 + nu) * p * a ** 2 / (E * (b ** 2 - a ** 2)) * ((1 - 2 * nu) * r + b ** 2 / r)
+    rollers = ["-bc_clamp", "xzero,yzero,bottom,top", "-bc_clamp_xzero_components", "x", "-bc_clamp_yzero_components",
+               "y", "-bc_clamp_bottom_components", "z", "-bc_clamp_top_components", "z"]
+    rows = []
+    for label, name, sizes, extra in (("P1", "tube", ["test", "default", "s8", "s16"], []),
+                                      ("P2", "tube", ["test", "default", "s8", "s16"], ["-element", "p2"]),
+                                      ("Q1 hex", "tube_hex", ["default", "s8", "s16", "s32"], [])):
+        hs, errs, vmaxs, ts = [], [], [], []
+        for size in sizes:
+            n = build.CATALOG[name][size]["n"]
+            rest, x, st, wall = run("tube_%s_%s" % (name, size) + ("_p2" if extra else ""), [
+                "-dm_plex_filename", mesh(name, size), "-energy", "iarap", "-E", str(E), "-nu", str(nu),
+                "-load_pressure_inner", str(p), "-load_pressure_inner_kind", "dead", "-steps", "1", "-newton_tol",
+                "1e-10"] + rollers + extra)
+            r = np.linalg.norm(rest[:, :2], axis=1)
+            u = x - rest
+            ur = np.einsum("ij,ij->i", u[:, :2], rest[:, :2]) / r
+            inner = np.abs(r - a) < 1e-9
+            err = abs(ur[inner].mean() - ur_exact(a)) / ur_exact(a)
+            vmax = np.abs(ur - ur_exact(r)).max() / ur_exact(a)
+            hs.append((b - a) / n)
+            errs.append(err)
+            vmaxs.append(vmax)
+            ts.append(wall)
+            rows.append([label, size, "%d" % n, "%d" % cells_of(name, size), "%d" % len(rest),
+                         "%.3f%%" % (100 * err), "", "%.3f%%" % (100 * vmax), "", "%.2f" % wall])
+        radial_series("Thick cylinder", label, rows, (hs, errs, vmaxs, ts), 6)
+    return ("Lame's thick cylinder, plane strain, dead pressure on an open wall", thick_cylinder.__doc__,
+            table(["element", "mesh", "cells across", "cells", "nodes", "u_r(a) error", "order", "max node error",
+                   "order", "solve s"], rows))
+
+
+def radial_fiber_file(name, size):
+    """A -fiber_file of radial fibers (each cell's rest centroid, normalized) for a shell mesh, in gmsh element
+    order."""
+    path = mesh(name, size)
+    out = os.path.join(ARGS.out, "%s_%s.radial_fibers" % (name, size))
+    lines = open(path).read().split("\n")
+    nodes, cells = {}, []
+    i = lines.index("$Nodes") + 2
+    while lines[i] != "$EndNodes":
+        w = lines[i].split()
+        nodes[int(w[0])] = np.array([float(v) for v in w[1:4]])
+        i += 1
+    i = lines.index("$Elements") + 2
+    while lines[i] != "$EndElements":
+        w = [int(v) for v in lines[i].split()]
+        if w[1] in (4, 5):  # tetrahedron, hexahedron
+            cells.append(np.mean([nodes[n] for n in w[3 + w[2]:]], axis=0))
+        i += 1
+    with open(out, "w") as fh:
+        fh.write("# radial fibers of %s\n%d\n" % (os.path.basename(path), len(cells)))
+        for c in cells:
+            fh.write("%.17g %.17g %.17g\n" % tuple(c / np.linalg.norm(c)))
+    return out
+
+
+def inflation():
+    """Large-strain inflation of the thick sphere (a = 0.5, b = 1, the body free) by a follower pressure on its
+    cavity, ramped over 10 load steps: iarap E = 1e4, nu = 0.3 at p = 2800 (the cavity's radius grows by 60%), and the
+    anisotropic fiber energy with radial fibers (-fiber_file: each cell's centroid direction; transversely isotropic
+    about the radius, so the state stays spherically symmetric), gamma = 5e3, at p = 3000 (40%). Reference: the
+    spherically symmetric equilibrium of the same energy (the radial ODE, bench/radial_reference.py: shooting with
+    DOP853 at rtol 1e-12, the outer traction brought to 1e-10 p; it reproduces Lame's u_r(a) to 5e-8 at small strain).
+    Errors relative to the reference's u_r(a), as above."""
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    from radial_reference import RadialInflation
+    E, nu, a, b = 1e4, 0.3, 0.5, 1.0
+    rows = []
+    for material, p, gamma in (("iarap", 2800.0, 0.0), ("fiber (radial)", 3000.0, 5e3)):
+        ref = RadialInflation(a, b, p, E, nu, gamma)
+        ur_ref = ref.displacement
+        for label, name, sizes, extra in SPHERE_ELEMENTS:
+            hs, errs, vmaxs, ts = [], [], [], []
+            for size, h in sizes[:3]:
+                energy = ["-energy", "iarap"] if gamma == 0 else [
+                    "-energy", "fiber", "-gamma", str(gamma), "-fiber_file", radial_fiber_file(name, size)]
+                rest, x, st, wall = run("inflate_%s_%s_%s" % (material.split()[0], name, size) + ("_p2" if extra else ""),
+                                        ["-dm_plex_filename", mesh(name, size), "-E", str(E), "-nu", str(nu),
+                                         "-load_pressure_inner", str(p), "-steps", "10", "-newton_tol", "1e-10"]
+                                        + energy + extra)
+                err, vmax, mean = radial_errors(rest, x, ur_ref, a)
+                hs.append(h)
+                errs.append(err)
+                vmaxs.append(vmax)
+                ts.append(wall)
+                rows.append([material, label, size, "%d" % len(rest), "%.3g" % h, "%.4f" % ((a + mean) / a),
+                             "%.4f" % ((a + ur_ref(a)) / a), "%.3f%%" % (100 * err), "", "%.3f%%" % (100 * vmax), "",
+                             "%.2f" % (sum(int(q["newton_its"]) for q in st) / len(st)), "%.2f" % wall])
+            radial_series("Inflation " + material, label, rows, (hs, errs, vmaxs, ts), 8)
+    return ("Large-strain inflation against the radial equilibrium ODE", inflation.__doc__,
+            table(["material", "element", "mesh", "nodes", "h", "cavity stretch", "reference", "u_r(a) error", "order",
+                   "max node error", "order", "Newton / step", "solve s"], rows))
 
 
 def cook_cst(n, E=1.0, nu=1.0 / 3.0):
@@ -605,15 +779,44 @@ def study(args):
     ARGS = args
     os.makedirs(ARGS.out, exist_ok=True)
     del SERIES[:]
-    sections = [end_traction(), simple_shear(), hanging_bar(), lame_sphere(), cantilever(), cook_membrane(),
-                compress_elements()]
+    if getattr(args, "only", None):
+        return [PROBLEMS[name]() for name in args.only]
+    sections = [end_traction(), simple_shear(), hanging_bar(), lame_sphere(), lame_elements(), thick_cylinder(),
+                inflation(), cantilever(), cook_membrane(), compress_elements()]
     return sections + [element_comparison()]
+
+
+def replace_sections(sections, seconds, made_by, commit):
+    """--only: the given sections replace those of the same title in docs/verification.md (new ones go before the
+    element comparison), and the header names the command, commit and date of each regenerated section."""
+    path = os.path.join(ROOT, "docs", "verification.md")
+    text = open(path).read()
+    head, *parts = text.split("\n## ")
+    old = [(part.split("\n", 1)[0], "## " + part) for part in parts]
+    for title, body, tab in sections:
+        block = "\n".join(["## " + title, "", " ".join(line.strip() for line in body.strip().splitlines()), "", tab])
+        k = next((k for k, (t, _) in enumerate(old) if t == title), None)
+        if k is None:
+            k = next((k for k, (t, _) in enumerate(old) if t == ELEMENT_TITLE), len(old))
+            old.insert(k, (title, block))
+        else:
+            old[k] = (title, block)
+    note = ("Regenerated by `%s` at commit %s on %s, %d MPI ranks, in %.0f s: %s."
+            % (made_by, commit, datetime.date.today().isoformat(), ARGS.ranks, seconds,
+               ", ".join(t for t, _, _ in sections)))
+    head = head.rstrip("\n") + "\n\n" + note + "\n"
+    doc = head + "\n" + "\n".join(block.rstrip("\n") + "\n" for _, block in old)
+    with open(path, "w") as fh:
+        fh.write(doc)
+    return doc.splitlines()
 
 
 def write_report(sections, seconds, made_by):
     """docs/verification.md from the study's sections (`made_by`: the command that ran it)."""
     commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True,
                             text=True).stdout.strip()
+    if getattr(ARGS, "only", None):
+        return replace_sections(sections, seconds, made_by, commit)
     doc = ["# Verification: exact solutions and reference values", "",
            "<!-- generated by bench/verification.py; do not edit by hand -->", "",
            "Made by `%s` at commit %s on %s, %d MPI ranks, in %.0f s (%s). Errors are relative to the rest bounding-box "
@@ -631,15 +834,28 @@ def write_report(sections, seconds, made_by):
     return doc
 
 
+PROBLEMS = {"end_traction": end_traction, "simple_shear": simple_shear, "hanging_bar": hanging_bar,
+            "lame_sphere": lame_sphere, "lame_elements": lame_elements, "thick_cylinder": thick_cylinder,
+            "inflation": inflation, "cantilever": cantilever, "cook_membrane": cook_membrane,
+            "compress_elements": compress_elements}
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--build", default=os.path.join(ROOT, "build"))
     ap.add_argument("--ranks", type=int, default=2)
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "verification"))
+    ap.add_argument("--only", type=lambda t: t.split(","), default=None,
+                    help="comma-separated problems (%s): run only these and replace their sections of "
+                         "docs/verification.md" % ", ".join(PROBLEMS))
     args = ap.parse_args()
+    for name in args.only or []:
+        if name not in PROBLEMS:
+            ap.error("--only: unknown problem '%s' (problems: %s)" % (name, ", ".join(PROBLEMS)))
     start = time.time()
     sections = study(args)
-    print("\n".join(write_report(sections, time.time() - start, "/usr/bin/python3 bench/verification.py")))
+    made_by = "/usr/bin/python3 bench/verification.py" + (" --only " + ",".join(args.only) if args.only else "")
+    print("\n".join(write_report(sections, time.time() - start, made_by)))
 
 
 if __name__ == "__main__":

@@ -245,7 +245,25 @@ def case_defs():
     d["load_components"] = (lambda: ["-dm_plex_filename", good_mesh(), "-load_force_bottom", "1,2"],
                             r"option -load_force_bottom takes 3 comma-separated numbers on a 3D mesh, got 2")
     d["load_pressure_open"] = (lambda: ["-dm_plex_filename", good_mesh(), "-load_pressure_bottom", "1"],
-                               r"option -load_pressure_bottom: the group is not a closed surface \(3 edges")
+                               r"option -load_pressure_bottom: the group is not a closed surface \(3 edges.*"
+                               r"-load_pressure_bottom_kind dead gives the dead pressure")
+    d["load_pressure_kind_unknown"] = (lambda: ["-dm_plex_filename", good_mesh(), "-load_pressure_bottom", "1",
+                                                "-load_pressure_bottom_kind", "normal"],
+                                       r"option -load_pressure_bottom_kind: 'normal' is not follower\|dead")
+    # The kind is not read as a set named "bottom_kind": without its pressure it is an error naming both options.
+    d["load_pressure_kind_alone"] = (lambda: ["-dm_plex_filename", good_mesh(), "-load_pressure_bottom_kind", "dead"],
+                                     r"option -load_pressure_bottom_kind: no pressure -load_pressure_bottom is given")
+    d["load_pressure_no_faces"] = (lambda: ["-dm_plex_filename", good_mesh(), "-load_pressure_body", "1",
+                                            "-load_pressure_body_kind", "dead"],
+                                   r"option -load_pressure_body: the group has no boundary facets .*a dead pressure "
+                                   r"acts on a boundary group")
+    d["load_pressure_unknown_set"] = (lambda: ["-dm_plex_filename", good_mesh(), "-load_pressure_inner", "1"],
+                                      r"option -load_pressure_inner: no such physical group .*"
+                                      r"-load_pressure_inner_kind dead loads an open one")
+    d["load_pressure_follower_planar"] = (lambda: ["-dm_plex_filename", write("flat_tri.msh", TRI_MSH.replace("Z", "0")),
+                                                   "-load_pressure_1", "1"],
+                                          r"option -load_pressure_1: a follower pressure acts on the closed surfaces "
+                                          r"of a volume mesh; on a planar mesh -load_pressure_1_kind dead")
     d["load_not_a_number"] = (lambda: ["-dm_plex_filename", good_mesh(), "-load_traction_bottom", "0,x,1"],
                               r"option -load_traction_bottom: ")
     d["strict_unknown_option"] = (lambda: ["-dm_plex_filename", good_mesh(), "-strict", "-gama", "3"],

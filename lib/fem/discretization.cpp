@@ -18,19 +18,12 @@ double Discretization::characteristicModulus() const {
   return m > 0.0 ? m : 1.0;
 }
 
-// What hexahedral and quadratic meshes do not have yet: the follower pressure (it integrates over linear triangle
-// faces) and the caricature field (its curvature comes from the linear tet mesh's boundary triangles). One line naming
-// the option, before any work.
+// What hexahedral and quadratic meshes do not have yet: the caricature field (its curvature comes from the linear tet
+// mesh's boundary triangles). One line naming the option, before any work.
 template <int R, int C, int NV>
 PetscErrorCode DiscretizationT<R, C, NV>::refuseOnPointRules(const Mesh &mesh, const FemOptions &o) const {
   PetscFunctionBeginUser;
   const char *has = NV == 8 ? "has hexahedra" : "has quadratic tetrahedra (-element p2)";
-  for (const SurfaceLoad &load : o.loads)
-    if (load.kind == SurfaceLoad::Kind::Pressure)
-      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
-              "option -load_pressure_%s: the follower pressure needs linear tetrahedra (mesh '%s' %s); use "
-              "-load_traction_%s for a dead load",
-              load.set.c_str(), mesh.filename.c_str(), has, load.set.c_str());
   for (const MaterialOptions &m : o.materials)
     if (energies::energyCellField(m.material.kind) == energies::CellField::SurfaceCurvature)
       SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
@@ -162,7 +155,7 @@ PetscErrorCode DiscretizationT<R, C, NV>::setupTerms(Mesh &mesh, const FemOption
     loads_->setLoad(step_.load);
     if (!loads_->empty()) terms_.push_back(loads_.get());
     if constexpr (R == 3 && C == 3) {
-      pressure_ = std::make_unique<FollowerPressure>(verts_);
+      pressure_ = std::make_unique<FollowerPressure<PressureFaceOf<NV>>>(verts_);
       PetscCall(pressure_->setup(mesh, o.loads));
       pressure_->setLoad(step_.load);
       if (!pressure_->empty()) terms_.push_back(pressure_.get());

@@ -115,7 +115,7 @@ class DiscretizationT final : public Discretization, public DiagnosticsView, pub
   std::unique_ptr<ObstacleContact> contact_;       // -obstacle_plane / -obstacle_sphere (3D)
   std::unique_ptr<InertiaGravity<R>> inertia_;     // backward Euler and -gravity
   std::unique_ptr<SurfaceLoads<R>> loads_;         // -load_traction_<set>, -load_force_<set>
-  std::unique_ptr<FollowerPressure> pressure_;     // -load_pressure_<set> (tets)
+  std::unique_ptr<FollowerPressure<PressureFaceOf<NV>>> pressure_;  // -load_pressure_<set> (volume meshes)
   std::vector<const Term *> terms_;                // the active terms, in assembly order
   bool stashSized_ = false;  // the off-rank assembly buffer sized before the first Hessian assembly
 };

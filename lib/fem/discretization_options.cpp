@@ -47,9 +47,10 @@ PetscErrorCode readDynamics(int dim, DynamicsTerms *dyn) {
   PetscFunctionReturn(0);
 }
 
-// Every -load_traction_<set>, -load_force_<set> and -load_pressure_<set> given (the set is in the option's name, so the given options are
-// listed to find them).
-PetscErrorCode readLoads(int dim, bool tets, std::vector<SurfaceLoad> *loads) {
+// Every -load_traction_<set>, -load_force_<set> and -load_pressure_<set> given (the set is in the option's name, so the
+// given options are listed to find them), and each pressure's -load_pressure_<set>_kind. `volume`: a tet or hexahedral
+// mesh; `planar`: a 2D mesh (a cloth mesh carries no pressure).
+PetscErrorCode readLoads(int dim, bool volume, bool planar, std::vector<SurfaceLoad> *loads) {
   char *all = nullptr;
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsGetAll(nullptr, &all));
@@ -60,9 +61,23 @@ PetscErrorCode readLoads(int dim, bool tets, std::vector<SurfaceLoad> *loads) {
     if (token.rfind("-load_", 0) == 0 && std::find(names.begin(), names.end(), token) == names.end())
       names.push_back(token);
   PetscCall(PetscFree(all));
+  const std::string pressureFamily = "-load_pressure_", kindSuffix = "_kind";
+  auto isKindOption = [&](const std::string &name) {
+    return name.rfind(pressureFamily, 0) == 0 && name.size() > pressureFamily.size() + kindSuffix.size() &&
+           name.compare(name.size() - kindSuffix.size(), kindSuffix.size(), kindSuffix) == 0;
+  };
   for (const std::string &name : names) {
     SurfaceLoad load;
     const OptionDecl *decl = nullptr;
+    if (isKindOption(name)) {  // read with its pressure below; a kind without a pressure is an error
+      const std::string pressure = name.substr(0, name.size() - kindSuffix.size());
+      if (std::find(names.begin(), names.end(), pressure) == names.end())
+        SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+                "option %s: no pressure %s is given (a set's pressure kind needs its pressure; a set name cannot end "
+                "in _kind)",
+                name.c_str(), pressure.c_str());
+      continue;
+    }
     const std::pair<const char *, SurfaceLoad::Kind> families[] = {{"-load_traction_", SurfaceLoad::Kind::Traction},
                                                                    {"-load_force_", SurfaceLoad::Kind::Force},
                                                                    {"-load_pressure_", SurfaceLoad::Kind::Pressure}};
@@ -80,10 +95,20 @@ PetscErrorCode readLoads(int dim, bool tets, std::vector<SurfaceLoad> *loads) {
               name.c_str());
     const std::string prefix = name.substr(1);
     if (load.kind == SurfaceLoad::Kind::Pressure) {
-      if (!tets)
+      const std::string kindPrefix = prefix + "_";
+      int kind = 0;
+      PetscCall(core::getChoice(opt::loadPressureKind, &kind, nullptr, {kindPrefix.c_str()}));
+      load.dead = core::choices(opt::loadPressureKind)[kind] == std::string("dead");
+      if (!volume && !planar)
         SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
-                "option %s: a follower pressure acts on the closed surfaces of a tet mesh, not on a planar or cloth mesh",
-                name.c_str());
+                "option %s: a pressure acts on the faces of a volume mesh or the edges of a planar mesh, not on a "
+                "cloth mesh (use -load_traction_%s for a dead load)",
+                name.c_str(), load.set.c_str());
+      if (!volume && !load.dead)
+        SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+                "option %s: a follower pressure acts on the closed surfaces of a volume mesh; on a planar mesh "
+                "-load_pressure_%s_kind dead gives the dead pressure",
+                name.c_str(), load.set.c_str());
       PetscCall(core::get(*decl, &load.value[0], nullptr, {prefix.c_str()}));
       loads->push_back(load);
       continue;
@@ -129,7 +154,7 @@ PetscErrorCode readFemOptions(const Mesh &mesh, FemOptions *o) {
   }
   if (cloth) PetscCall(core::get(opt::bending, &o->bending, &set));
   if (!planar) PetscCall(readObstacleOptions(mesh, &o->contact));
-  PetscCall(readLoads(planar ? 2 : 3, mesh.shape == energies::ElementShape::Tet, &o->loads));
+  PetscCall(readLoads(planar ? 2 : 3, mesh.shape == energies::ElementShape::Tet, planar, &o->loads));
   PetscFunctionReturn(0);
 }
 

@@ -25,13 +25,15 @@ struct DynamicsTerms {
   double density = 1000.0;
 };
 
-// A load on a boundary group: a dead traction or total force (-load_traction_<set>, -load_force_<set>;
-// terms/surface_loads.hpp) or a follower pressure (-load_pressure_<set>; terms/follower_pressure.hpp).
+// A load on a boundary group: a dead traction or total force (-load_traction_<set>, -load_force_<set>), a dead
+// pressure (-load_pressure_<set> with -load_pressure_<set>_kind dead; all three terms/surface_loads.hpp) or a follower
+// pressure (-load_pressure_<set>, terms/follower_pressure.hpp).
 struct SurfaceLoad {
   enum class Kind { Traction, Force, Pressure };
   std::string set;  // the gmsh physical group, id or name, as in the option's name
   Kind kind = Kind::Traction;
   Eigen::Vector3d value = Eigen::Vector3d::Zero();  // traction (force per rest area), total force, or (p, 0, 0)
+  bool dead = false;  // a pressure: dead (-load_pressure_<set>_kind dead) rather than follower
 };
 
 struct FemOptions {

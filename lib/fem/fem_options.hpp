@@ -199,7 +199,7 @@ inline constexpr const OptionDecl *kBodyForceOptions[] = {&density, &gravity};
 // ---- surface loads: one option per boundary group, the group in the name (-load_traction_top) ----
 inline constexpr OptionDecl loadTraction =
     realsOption("-", "tx,ty,tz",
-                "dead traction (force per rest area) on the boundary group <set> (id or name: faces of a tet mesh, "
+                "dead traction (force per rest area) on the boundary group <set> (id or name: faces of a volume mesh, "
                 "edges of a planar or cloth mesh), ramped with the load parameter (tx,ty on a 2D mesh)")
         .entries(3, 2)
         .otherwise("none")
@@ -214,12 +214,20 @@ inline constexpr OptionDecl loadForce =
 
 inline constexpr OptionDecl loadPressure =
     realOption("-", "p",
-               "follower pressure on the closed boundary surface <set> of a tet mesh, against the body's outward "
-               "normal (p > 0 squeezes an outer surface, inflates a cavity), ramped with the load parameter")
+               "pressure on the boundary group <set> (faces of a volume mesh: P1 or P2 tetrahedra, hexahedra; edges "
+               "of a planar mesh for a dead one), against the body's outward normal (p > 0 squeezes an outer "
+               "surface, inflates a cavity), ramped with the load parameter; its kind below")
         .otherwise("none")
         .inFamily("-load_pressure_<set>");
+inline constexpr OptionDecl loadPressureKind =
+    choiceOption("-kind", "follower|dead",
+                 "the pressure on <set>: follower (along the deformed surface's normal; a closed surface of a volume "
+                 "mesh) or dead (-p N per rest area along the rest normal N; any surface, open or closed); a set name "
+                 "cannot end in _kind")
+        .byDefault("follower")
+        .inFamily("-load_pressure_<set>_");
 
-inline constexpr const OptionDecl *kLoadOptions[] = {&loadTraction, &loadForce, &loadPressure};
+inline constexpr const OptionDecl *kLoadOptions[] = {&loadTraction, &loadForce, &loadPressure, &loadPressureKind};
 
 // ---- cloth: bending and contact; planar orientation ----
 inline constexpr OptionDecl bending =

@@ -19,6 +19,7 @@ plain numpy in a fixed order.
 import fcntl
 import hashlib
 import json
+import math
 import os
 import resource
 import shutil
@@ -56,6 +57,19 @@ def cook_sizes(cells, per_square):
     for name, n in (("test", 8), ("s16", 16), ("default", 32), ("paper", None), ("s64", 64), ("s128", 128)):
         sizes[name] = {"alias": "default"} if n is None else {"n": n, cells: per_square * n * n}
     return sizes
+
+
+def tube_sizes(cells, per_cell):
+    """The quarter tube's sizes: n cells across the wall (test 2, default 4, s8, s16, s32), tube_cells(n) around it."""
+    sizes = {}
+    for name, n in (("test", 2), ("default", 4), ("paper", None), ("s8", 8), ("s16", 16), ("s32", 32)):
+        sizes[name] = {"alias": "default"} if n is None else {"n": n, cells: per_cell * n * tube_cells(n)}
+    return sizes
+
+
+def tube_cells(n):
+    """Cells around the quarter tube for n across its wall: about square at the mean radius 1.5 (arc pi/2 1.5)."""
+    return int(round(n * math.pi / 2 * 1.5))
 
 
 CATALOG = {
@@ -151,6 +165,20 @@ CATALOG = {
         "fine4": {"h": 0.05, "tets": 138260},
         "fine5": {"h": 0.035, "tets": 393067},
     },
+    # verification: Lame's thick sphere (inner radius 0.5, outer 1) in trilinear hexahedra: a cubed sphere, n x n cells
+    # per cube face and n / 2 radial layers (6 n^2 n/2 hexes)
+    "shell_hex": {
+        "test": {"n": 4, "hexes": 3 * 4 ** 3},
+        "default": {"n": 8, "hexes": 3 * 8 ** 3},
+        "paper": {"alias": "default"},
+        "s12": {"n": 12, "hexes": 3 * 12 ** 3},
+        "s16": {"n": 16, "hexes": 3 * 16 ** 3},
+        "s24": {"n": 24, "hexes": 3 * 24 ** 3},
+    },
+    # verification: Lame's thick cylinder in plane strain, a quarter (inner radius 1, outer 2, one cell layer in z),
+    # n cells across the wall (bench/verification.py); P1 / P2 on "tube", trilinear hexahedra on "tube_hex"
+    "tube": tube_sizes("tets", 6),
+    "tube_hex": tube_sizes("hexes", 1),
     # triangle surface meshes
     "cloth": {
         "test": {"n": 16, "triangles": 2 * 16 ** 2},
@@ -204,6 +232,9 @@ PAPER = {  # the paper's meshes (Table 1: tets, Table 2: cloth triangles), for t
     "cook_slab": "(verification: Cook's membrane, 3D slab)",
     "cook_hex": "(verification: Cook's membrane, 3D slab, hexahedra)",
     "beam": "(verification: cantilever)",
+    "tube": "(verification: Lame's thick cylinder, plane strain)",
+    "shell_hex": "(verification: Lame's sphere, hexahedra)",
+    "tube_hex": "(verification: Lame's thick cylinder, plane strain, hexahedra)",
     "lionhead": "Fig. 14 (count not given)",
     "nefertiti": "Fig. 14 (count not given)",
 }
@@ -407,6 +438,7 @@ def build_cube(p):
     for tag, name in enumerate(names, start=1):
         axis, val = (tag - 1) // 2, float((tag - 1) % 2)
         m.add_face_set(tag, name, F[(np.abs(P[:, :, axis] - val) < 1e-12).all(1)])
+    m.add_face_set(7, "surface", F)  # the whole closed boundary (a pressure on every face)
     return m, {}, {"source": "structured Freudenthal subdivision (meshes/tools/build.py)", "n": n}
 
 
@@ -428,6 +460,7 @@ def build_hexcube(p):
     for tag, name in enumerate(["left", "right", "front", "back", "bottom", "top"], start=1):
         axis, val = (tag - 1) // 2, float((tag - 1) % 2)
         m.add_face_set(tag, name, F[(np.abs(P[:, :, axis] - val) < 1e-12).all(1)])
+    m.add_face_set(7, "surface", F)  # the whole closed boundary (a pressure on every face)
     return m, {}, {"source": "structured grid (meshes/tools/build.py)", "n": n, "jitter": p.get("jitter", 0.0)}
 
 
@@ -741,6 +774,92 @@ def build_cook_hex(p):
     return m, {}, {"source": "structured bilinear map, extruded (meshes/tools/build.py)", "n": n}
 
 
+def tube_points(n):
+    """The nodes i + (n+1) (j + (m+1) k) of the quarter tube: radius 1 + i / n, angle (pi/2) j / m, z = k / n for
+    k = 0, 1 (m = tube_cells(n)); every node on its circle (the hexahedra's edges across it are straight chords)."""
+    m = tube_cells(n)
+    k, j, i = np.meshgrid(np.arange(2), np.arange(m + 1), np.arange(n + 1), indexing="ij")
+    r, t = 1.0 + i.ravel() / n, 0.5 * math.pi * j.ravel() / m
+    return np.c_[r * np.cos(t), r * np.sin(t), k.ravel() / n], m
+
+
+def tube_face_sets(m, F, n):
+    """inner (r = 1), outer (r = 2), xzero (x = 0), yzero (y = 0), bottom (z = 0), top (z = 1 / n)."""
+    Q = m.X[F]
+    r = np.linalg.norm(Q[:, :, :2], axis=2)
+    for tag, name, on in ((1, "inner", np.abs(r - 1.0) < 1e-9), (2, "outer", np.abs(r - 2.0) < 1e-9),
+                          (3, "xzero", np.abs(Q[:, :, 0]) < 1e-9), (4, "yzero", np.abs(Q[:, :, 1]) < 1e-9),
+                          (5, "bottom", np.abs(Q[:, :, 2]) < 1e-9), (6, "top", np.abs(Q[:, :, 2] - 1.0 / n) < 1e-9)):
+        m.add_face_set(tag, name, F[on.all(1)])
+
+
+def build_shell_hex(p):
+    """Lame's thick sphere (inner radius 0.5, outer 1) as a cubed sphere of trilinear hexahedra: each face of the cube
+    [-1, 1]^3 an n x n grid of equal angles (tan map), projected on the spheres of n / 2 + 1 radii evenly spaced from
+    0.5 to 1; corners shared across faces (merged). Face groups inner, outer."""
+    n, layers = p["n"], p["n"] // 2
+    t = np.tan(np.linspace(-math.pi / 4, math.pi / 4, n + 1))
+    radii = np.linspace(0.5, 1.0, layers + 1)
+    points, cells = [], []
+    for axis in range(3):
+        for sign in (-1.0, 1.0):
+            v, u = np.meshgrid(t, t, indexing="ij")
+            cube = np.zeros((n + 1, n + 1, 3))
+            cube[..., axis] = sign
+            cube[..., (axis + 1) % 3] = u
+            cube[..., (axis + 2) % 3] = v
+            unit = cube / np.linalg.norm(cube, axis=2, keepdims=True)
+            base = sum(len(q) for q in points)
+            points.append((radii[:, None, None, None] * unit[None]).reshape(-1, 3))  # (k, j, i) with i fastest
+            node = lambda i, j, k: base + i + (n + 1) * (j + (n + 1) * k)
+            k, j, i = np.meshgrid(np.arange(layers), np.arange(n), np.arange(n), indexing="ij")
+            i, j, k = i.ravel(), j.ravel(), k.ravel()
+            cells.append(np.stack([node(i, j, k), node(i + 1, j, k), node(i + 1, j + 1, k), node(i, j + 1, k),
+                                   node(i, j, k + 1), node(i + 1, j, k + 1), node(i + 1, j + 1, k + 1),
+                                   node(i, j + 1, k + 1)], axis=1))
+    X = np.vstack(points)
+    H = np.vstack(cells)
+    # merge the copies of the nodes on the cube's edges (equal up to round-off)
+    key = np.round(X * 1e9).astype(np.int64)
+    _, first, inverse = np.unique(key, axis=0, return_index=True, return_inverse=True)
+    H = first[inverse.ravel()][H]
+    # positive numbering: a cell with negative corner Jacobians swaps its two layers' faces' orientation
+    neg = mk.hex_jacobians(X, H).min(1) < 0
+    H[neg] = H[neg][:, [0, 3, 2, 1, 4, 7, 6, 5]]
+    m = mk.HexMesh(X, H)
+    m.drop_unused_nodes()
+    if (mk.hex_jacobians(m.X, m.T) <= 0).any():
+        raise SystemExit("shell_hex: a cell is not positively numbered (bug)")
+    F, _ = m.boundary_faces()
+    r = np.linalg.norm(m.X[F].mean(1), axis=1)
+    m.add_face_set(1, "inner", F[r < 0.75])
+    m.add_face_set(2, "outer", F[r >= 0.75])
+    return m, {}, {"source": "cubed sphere (meshes/tools/build.py)", "n": n}
+
+
+def build_tube(p):
+    """Lame's thick cylinder (inner radius 1, outer 2) in plane strain, the quarter x, y >= 0, one cell layer
+    z in [0, 1/n]: n cells across the wall, tube_cells(n) around, each cell split into 6 Freudenthal tets. Face groups
+    in tube_face_sets (the symmetry planes xzero, yzero and the ends bottom, top carry rollers in the benchmark)."""
+    n = p["n"]
+    X, m_ = tube_points(n)
+    m = mk.TetMesh(X, freudenthal_tets(n, m_, 1))
+    m.orient()
+    F, _ = m.boundary_faces()
+    tube_face_sets(m, F, n)
+    return m, {}, {"source": "structured quarter annulus (meshes/tools/build.py)", "n": n}
+
+
+def build_tube_hex(p):
+    """build_tube's quarter in trilinear hexahedra (n x tube_cells(n) x 1), the same face groups."""
+    n = p["n"]
+    X, m_ = tube_points(n)
+    m = mk.HexMesh(X, mk.grid_hexes(np.ones((n, m_, 1), dtype=bool)))
+    F, _ = m.boundary_faces()
+    tube_face_sets(m, F, n)
+    return m, {}, {"source": "structured quarter annulus (meshes/tools/build.py)", "n": n}
+
+
 def build_cook(p):
     """Cook's membrane (Cook 1974; the plane-stress benchmark of e.g. Simo & Rifai 1990): the quadrilateral panel with
     corners (0,0), (48,44), (48,60), (0,44) in the plane z = 0, an n x n grid of the bilinear map of the unit square,
@@ -870,6 +989,7 @@ BUILDERS = {"box": build_box, "cylinder": build_cylinder, "cube": build_cube, "h
             "bunny": build_bunny, "octopus": build_octopus, "triceratops": build_triceratops,
             "hand": build_hand, "camel": build_camel, "cloth": build_cloth, "cook": build_cook, "beam": build_beam,
             "cook_slab": build_cook_slab, "cook_hex": build_cook_hex,
+            "tube": build_tube, "tube_hex": build_tube_hex, "shell_hex": build_shell_hex,
             "disk": build_disk,
             "lionhead": build_lionhead, "nefertiti": build_nefertiti, "shell": build_shell}
 

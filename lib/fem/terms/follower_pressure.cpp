@@ -1,7 +1,8 @@
 #include "fem/terms/follower_pressure.hpp"
 
 #include "core/parallel.hpp"
-#include "kernels/enclosed_volume.hpp"
+#include "fem/terms/boundary_facets.hpp"
+#include "kernels/element_rules.hpp"
 #include "kernels/psd_projection.hpp"
 
 #include <petscdmplex.h>
@@ -9,12 +10,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 namespace aries::fem {
 
 namespace {
 
-// Edges of the set's triangles that do not have exactly two of them, over all ranks (0: a closed surface).
+// Edges of the set's facets shared by an odd number of them, over all ranks (0: a closed surface; a boundary edge
+// where two parts of the body touch, as voxels along an edge, has 4).
 PetscErrorCode openEdges(DM dm, const std::vector<PetscInt> &faces, PetscInt pStart, PetscInt pEnd,
                          const std::vector<char> &copy, PetscInt *open) {
   PetscSF sf;
@@ -33,18 +36,85 @@ PetscErrorCode openEdges(DM dm, const std::vector<PetscInt> &faces, PetscInt pSt
   PetscCall(PetscSFReduceEnd(sf, MPIU_INT, count.data(), total.data(), MPI_SUM));
   PetscInt local = 0;
   for (PetscInt p = pStart; p < pEnd; ++p)
-    if (!copy[p - pStart] && total[p - pStart] != 0 && total[p - pStart] != 2) ++local;
+    if (!copy[p - pStart] && total[p - pStart] % 2 != 0) ++local;
   PetscCallMPI(MPI_Allreduce(&local, open, 1, MPIU_INT, MPI_SUM, PetscObjectComm((PetscObject)dm)));
   PetscFunctionReturn(0);
 }
 
 }  // namespace
 
-Eigen::Vector3d FollowerPressure::position(PetscInt v, const PetscScalar *x) const {
-  return Eigen::Map<const Eigen::Vector3d>(x + verts_[v].loc);
+template <class Face>
+auto FollowerPressure<Face>::positions(const PressureFace &f, const PetscScalar *x) const -> kernels::Mat<kNodes, 3> {
+  kernels::Mat<kNodes, 3> X;
+  for (int a = 0; a < kNodes; ++a) X.row(a) = Eigen::Map<const Eigen::Vector3d>(x + verts_[f.vertex[a]].loc).transpose();
+  return X;
 }
 
-PetscErrorCode FollowerPressure::setup(const Mesh &mesh, const std::vector<SurfaceLoad> &loads) {
+template <class Face>
+auto FollowerPressure<Face>::restPositions(const PressureFace &f) const -> kernels::Mat<kNodes, 3> {
+  kernels::Mat<kNodes, 3> X;
+  for (int a = 0; a < kNodes; ++a) X.row(a) = verts_[f.vertex[a]].rest.transpose();
+  return X;
+}
+
+template <class Face>
+PetscErrorCode FollowerPressure<Face>::quadraticFaces(const Mesh &mesh, const std::vector<PetscInt> &owned,
+                                                      const std::string &option, int set) {
+  PetscFunctionBeginUser;
+  if constexpr (kNodes == 6) {
+    using Key = std::array<PetscInt, 3>;
+    std::map<Key, int> middles;  // the set's middle triangles (3 edge nodes), sorted vertices -> times matched
+    for (PetscInt f : owned) {
+      std::vector<PetscInt> vs;
+      PetscCall(closureVertices(mesh, f, &vs));
+      if (vs.size() == 3 && mesh.edgeNode[vs[0]] && mesh.edgeNode[vs[1]] && mesh.edgeNode[vs[2]]) {
+        Key k = {vs[0], vs[1], vs[2]};
+        std::sort(k.begin(), k.end());
+        middles[k] = 0;
+      }
+    }
+    namespace t10 = kernels::tet10;
+    auto edgeOf = [](int a, int b) {
+      for (int e = 0; e < 6; ++e)
+        if ((t10::kEdges[e][0] == a && t10::kEdges[e][1] == b) || (t10::kEdges[e][0] == b && t10::kEdges[e][1] == a))
+          return 4 + e;
+      return -1;
+    };
+    for (const auto &nodes : mesh.elementNodes)
+      for (int opposite = 0; opposite < 4; ++opposite) {
+        int c[3], n = 0;
+        for (int k = 0; k < 4; ++k)
+          if (k != opposite) c[n++] = k;
+        Key key = {nodes[edgeOf(c[0], c[1])], nodes[edgeOf(c[1], c[2])], nodes[edgeOf(c[2], c[0])]};
+        Key sorted = key;
+        std::sort(sorted.begin(), sorted.end());
+        auto it = middles.find(sorted);
+        if (it == middles.end()) continue;
+        ++it->second;
+        PressureFace face;
+        face.set = set;
+        face.vertex = {nodes[c[0]], nodes[c[1]], nodes[c[2]], key[0], key[1], key[2]};
+        // Outward: the straight rest face's normal away from the element's fourth corner.
+        const Eigen::Vector3d &X0 = verts_[face.vertex[0]].rest;
+        const Eigen::Vector3d normal = (verts_[face.vertex[1]].rest - X0).cross(verts_[face.vertex[2]].rest - X0);
+        if (normal.dot(verts_[nodes[opposite]].rest - X0) > 0.0) {
+          std::swap(face.vertex[1], face.vertex[2]);  // corners 1, 2 swap; the edges 01 and 20 swap with them
+          std::swap(face.vertex[3], face.vertex[5]);
+        }
+        faces_.push_back(face);
+      }
+    for (const auto &kv : middles)
+      if (kv.second != 1)
+        SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+                "option %s: the group has a face that is %s of the quadratic elements (a pressure acts on boundary "
+                "faces)",
+                option.c_str(), kv.second == 0 ? "no face" : "a face of two");
+  }
+  PetscFunctionReturn(0);
+}
+
+template <class Face>
+PetscErrorCode FollowerPressure<Face>::setup(const Mesh &mesh, const std::vector<SurfaceLoad> &loads) {
   MPI_Comm comm;
   PetscInt pStart, pEnd;
   PetscFunctionBeginUser;
@@ -53,65 +123,63 @@ PetscErrorCode FollowerPressure::setup(const Mesh &mesh, const std::vector<Surfa
   std::vector<char> copy;  // copies of another rank's points: a face is counted by its owner only
   PetscCall(core::sharedLeafPoints(mesh.dm, &copy));
   for (const SurfaceLoad &load : loads) {
-    if (load.kind != SurfaceLoad::Kind::Pressure) continue;
+    if (load.kind != SurfaceLoad::Kind::Pressure || load.dead) continue;
     const int set = static_cast<int>(loads_++);
+    const std::string option = "-load_pressure_" + load.set;
+    const std::string purpose = "a follower pressure acts on a closed boundary surface of a volume mesh; "
+                                "-load_pressure_" + load.set + "_kind dead loads an open one";
     std::vector<PetscInt> owned;
     PetscInt open = 0;
-    PetscCall(ownedGroupFacets(mesh, copy, load.set, "-load_pressure_" + load.set,
-                               "a pressure acts on a closed boundary surface of a tet mesh", &owned));
+    PetscCall(ownedGroupFacets(mesh, copy, load.set, option, purpose.c_str(), &owned));
     PetscCall(openEdges(mesh.dm, owned, pStart, pEnd, copy, &open));
     if (open > 0)
       SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
-              "option -load_pressure_%s: the group is not a closed surface (%d edges not shared by exactly two of its "
-              "faces); a follower pressure has a potential only on a closed surface (a cavity or a whole boundary)",
-              load.set.c_str(), (int)open);
+              "option -load_pressure_%s: the group is not a closed surface (%d edges shared by an odd number of its "
+              "faces); a follower pressure has a potential only on a closed surface (a cavity or a whole boundary): "
+              "-load_pressure_%s_kind dead gives the dead pressure, which any surface can carry",
+              load.set.c_str(), (int)open, load.set.c_str());
+    std::vector<OrientedFacet> facets;
+    PetscCall(orientBoundaryFacets(mesh, verts_, owned, option, &facets));
+    const size_t first = faces_.size();
+    if constexpr (kNodes == 6) {
+      PetscCall(quadraticFaces(mesh, owned, option, set));
+    } else {
+      for (const OrientedFacet &f : facets) {
+        if (f.count != kNodes)
+          SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: the group has a facet with %d vertices",
+                  option.c_str(), f.count);
+        PressureFace face;
+        face.set = set;
+        std::copy(f.vertex.begin(), f.vertex.begin() + kNodes, face.vertex.begin());
+        faces_.push_back(face);
+      }
+    }
+    // The set's rest centroid (area-weighted over its facets: the reference point only sets the pieces' round-off).
     double centroid[4] = {0, 0, 0, 0}, sums[4];
-    for (PetscInt f : owned) {
-      PetscInt ns;
-      const PetscInt *supp;
-      std::vector<PetscInt> vs, cell;
-      PetscCall(closureVertices(mesh, f, &vs));
-      PetscCall(DMPlexGetSupportSize(mesh.dm, f, &ns));
-      PetscCall(DMPlexGetSupport(mesh.dm, f, &supp));
-      if (ns != 1 || vs.size() != 3)
-        SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
-                "option -load_pressure_%s: the group has a face inside the body (a pressure acts on boundary faces)",
-                load.set.c_str());
-      std::array<PetscInt, 3> tri = {vs[0], vs[1], vs[2]};
-      // Outward: away from the cell's fourth vertex.
-      PetscCall(closureVertices(mesh, supp[0], &cell));
-      Eigen::Vector3d inner = Eigen::Vector3d::Zero();
-      for (PetscInt v : cell)
-        if (std::find(tri.begin(), tri.end(), v) == tri.end()) inner = verts_[v].rest;
-      const Eigen::Vector3d &X0 = verts_[tri[0]].rest;
-      const Eigen::Vector3d n = (verts_[tri[1]].rest - X0).cross(verts_[tri[2]].rest - X0);
-      if (n.dot(inner - X0) > 0.0) std::swap(tri[1], tri[2]);
-      triangles_.push_back({tri, set});
-      const double area = 0.5 * n.norm();
-      for (PetscInt v : tri)
-        for (int i = 0; i < 3; ++i) centroid[i] += area / 3.0 * verts_[v].rest[i];
+    for (const OrientedFacet &f : facets) {
+      const double area = restAreaVector(verts_, f).norm();
+      for (int k = 0; k < f.count; ++k)
+        for (int i = 0; i < 3; ++i) centroid[i] += area / f.count * verts_[f.vertex[k]].rest[i];
       centroid[3] += area;
     }
     PetscCallMPI(MPI_Allreduce(centroid, sums, 4, MPI_DOUBLE, MPI_SUM, comm));
     center_.emplace_back(sums[0] / sums[3], sums[1] / sums[3], sums[2] / sums[3]);
     pressure_.push_back(load.value[0]);
-    restVolume_.push_back(0.0);
+    double v = 0.0;
+    for (size_t k = first; k < faces_.size(); ++k)
+      v += kernels::faceVolume<Face>(restPositions(faces_[k]), center_.back(), kernels::Order::Value).value;
+    restVolume_.push_back(v);
   }
-  for (const Triangle &t : triangles_)
-    restVolume_[t.set] += kernels::triangleVolume(verts_[t.vertex[0]].rest, verts_[t.vertex[1]].rest,
-                                                  verts_[t.vertex[2]].rest, center_[t.set], kernels::Order::Value)
-                              .value;
   PetscFunctionReturn(0);
 }
 
-void FollowerPressure::addEnergy(const PetscScalar *x, double *energy, double *magnitude) const {
+template <class Face>
+void FollowerPressure<Face>::addEnergy(const PetscScalar *x, double *energy, double *magnitude) const {
   double e = 0.0, mag = 0.0;
-  for (const Triangle &t : triangles_) {
-    const double v = kernels::triangleVolume(position(t.vertex[0], x), position(t.vertex[1], x),
-                                             position(t.vertex[2], x), center_[t.set], kernels::Order::Value)
-                         .value;
-    e += s_ * pressure_[t.set] * v;
-    mag += std::abs(s_ * pressure_[t.set] * v);
+  for (const PressureFace &f : faces_) {
+    const double v = kernels::faceVolume<Face>(positions(f, x), center_[f.set], kernels::Order::Value).value;
+    e += s_ * pressure_[f.set] * v;
+    mag += std::abs(s_ * pressure_[f.set] * v);
   }
   for (size_t k = 0; k < restVolume_.size(); ++k) {  // the datum V(X): zero at rest
     e -= s_ * pressure_[k] * restVolume_[k];
@@ -121,48 +189,56 @@ void FollowerPressure::addEnergy(const PetscScalar *x, double *energy, double *m
   *magnitude += mag;
 }
 
-void FollowerPressure::addGradient(const PetscScalar *x, PetscScalar *g) const {
-  for (const Triangle &t : triangles_) {
-    const auto d = kernels::triangleVolume(position(t.vertex[0], x), position(t.vertex[1], x), position(t.vertex[2], x),
-                                           center_[t.set], kernels::Order::Gradient);
-    for (int i = 0; i < 3; ++i) {
-      const auto &vi = verts_[t.vertex[i]];
+template <class Face>
+void FollowerPressure<Face>::addGradient(const PetscScalar *x, PetscScalar *g) const {
+  for (const PressureFace &f : faces_) {
+    const auto d = kernels::faceVolume<Face>(positions(f, x), center_[f.set], kernels::Order::Gradient);
+    for (int a = 0; a < kNodes; ++a) {
+      const auto &va = verts_[f.vertex[a]];
       for (int k = 0; k < 3; ++k)
-        if (!vi.fixed(k)) g[vi.loc + k] += s_ * pressure_[t.set] * d.grad[3 * i + k];
+        if (!va.fixed(k)) g[va.loc + k] += s_ * pressure_[f.set] * d.grad[3 * a + k];
     }
   }
 }
 
-PetscErrorCode FollowerPressure::addHessian(const PetscScalar *x, const HessianAssembly &how, Mat J) const {
+template <class Face>
+PetscErrorCode FollowerPressure<Face>::addHessian(const PetscScalar *x, const HessianAssembly &how, Mat J) const {
+  constexpr int N = 3 * kNodes;
   PetscFunctionBeginUser;
-  for (const Triangle &t : triangles_) {
-    if (productSkips<3, 3>(verts_, t.vertex, how)) continue;
-    const auto d = kernels::triangleVolume(position(t.vertex[0], x), position(t.vertex[1], x), position(t.vertex[2], x),
-                                           center_[t.set], kernels::Order::Hessian);
-    const kernels::Mat<9, 9> H = kernels::filterEigenvalues<9>((s_ * pressure_[t.set]) * d.hess, how.filter.filter);
-    const Eigen::Matrix<double, 9, 9, Eigen::RowMajor> K = H;
-    PetscCall((addElementMatrix<3, 3>(verts_, t.vertex, K.data(), how, J)));
+  for (const PressureFace &f : faces_) {
+    if (productSkips<kNodes, 3>(verts_, f.vertex, how)) continue;
+    const auto d = kernels::faceVolume<Face>(positions(f, x), center_[f.set], kernels::Order::Hessian);
+    const kernels::Mat<N, N> H = kernels::filterEigenvalues<N>((s_ * pressure_[f.set]) * d.hess, how.filter.filter);
+    const Eigen::Matrix<double, N, N, Eigen::RowMajor> K = H;
+    PetscCall((addElementMatrix<kNodes, 3>(verts_, f.vertex, K.data(), how, J)));
   }
   PetscFunctionReturn(0);
 }
 
-void FollowerPressure::addCurvature(const PetscScalar *x, const PetscScalar *const d[], int K, GramMatrix *q) const {
-  for (const Triangle &t : triangles_) {
-    Eigen::Matrix<double, 9, Eigen::Dynamic, 0, 9, kMaxGramDirections> A(9, K);
-    for (int i = 0; i < 3; ++i)
+template <class Face>
+void FollowerPressure<Face>::addCurvature(const PetscScalar *x, const PetscScalar *const d[], int K,
+                                          GramMatrix *q) const {
+  constexpr int N = 3 * kNodes;
+  for (const PressureFace &f : faces_) {
+    Eigen::Matrix<double, N, Eigen::Dynamic, 0, N, kMaxGramDirections> A(N, K);
+    for (int a = 0; a < kNodes; ++a)
       for (int k = 0; k < K; ++k)
-        A.col(k).template segment<3>(3 * i) = Eigen::Map<const Eigen::Vector3d>(d[k] + verts_[t.vertex[i]].loc);
-    const auto h = kernels::triangleVolume(position(t.vertex[0], x), position(t.vertex[1], x),
-                                           position(t.vertex[2], x), center_[t.set], kernels::Order::Hessian);
-    addGram(A, ((s_ * pressure_[t.set]) * h.hess).eval(), K, q);
+        A.col(k).template segment<3>(3 * a) = Eigen::Map<const Eigen::Vector3d>(d[k] + verts_[f.vertex[a]].loc);
+    const auto h = kernels::faceVolume<Face>(positions(f, x), center_[f.set], kernels::Order::Hessian);
+    addGram(A, ((s_ * pressure_[f.set]) * h.hess).eval(), K, q);
   }
 }
 
-PetscInt FollowerPressure::offRankHessianValues() const {
+template <class Face>
+PetscInt FollowerPressure<Face>::offRankHessianValues() const {
   PetscInt blocks = 0;
-  for (const Triangle &t : triangles_)
-    for (PetscInt v : t.vertex) blocks += verts_[v].offRankFree() ? 3 : 0;
-  return blocks * 9;
+  for (const PressureFace &f : faces_)
+    for (PetscInt v : f.vertex) blocks += verts_[v].offRankFree() ? 3 * kNodes : 0;
+  return blocks * 3;
 }
+
+template class FollowerPressure<kernels::face::Tri3>;
+template class FollowerPressure<kernels::face::Quad4>;
+template class FollowerPressure<kernels::face::Tri6>;
 
 }  // namespace aries::fem

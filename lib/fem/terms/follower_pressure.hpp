@@ -1,29 +1,36 @@
-// Follower pressure on closed boundary surfaces (-load_pressure_<set> p, tet meshes), ramped with the load parameter
-// s: the pressure p acts on the deformed surface against its outward normal (the body's), so p > 0 on the outer
-// surface squeezes the body and p > 0 on a cavity's wall inflates the cavity. On a closed surface it is conservative:
-// its potential is s p (V(x) - V(X)), V the volume the surface encloses with the body's outward orientation
-// (kernels/enclosed_volume.hpp; a cavity's wall encloses minus the cavity's volume), so Newton minimizes one total
-// potential and its Hessian is symmetric. That Hessian is indefinite (trace-free per triangle): each triangle's
-// 9x9 block goes through the same eigenvalue filter as the elements (-psd_projection) so CG sees a PSD system; the
-// subspace step and the adaptive filter use the true one. An open set has no potential (its load is not
-// conservative) and is an error.
+// Follower pressure on closed boundary surfaces (-load_pressure_<set> p, the default -load_pressure_<set>_kind
+// follower), on every volume element: linear tetrahedra (3-node faces), trilinear hexahedra (bilinear 4-node faces)
+// and quadratic tetrahedra (6-node faces, curved once deformed); ramped with the load parameter s. The pressure p acts
+// on the deformed surface against its outward normal (the body's), so p > 0 on the outer surface squeezes the body and
+// p > 0 on a cavity's wall inflates the cavity. On a closed surface it is conservative: its potential is
+// s p (V(x) - V(X)), V the volume the surface encloses with the body's outward orientation, (1/3) int (x - c) . n da
+// face by face (kernels::faceVolume, exact quadrature for each face type; a cavity's wall encloses minus the cavity's
+// volume), so Newton minimizes one total potential and its Hessian is symmetric. That Hessian is indefinite (trace-free
+// per face): each face's block goes through the same eigenvalue filter as the elements (-psd_projection) so CG sees a
+// PSD system; the subspace step and the adaptive filter use the true one. An open set has no potential (its load is
+// not conservative): a follower pressure on one is an error that names the dead pressure (terms/surface_loads.hpp).
 #pragma once
 
 #include "fem/discretization_options.hpp"
 #include "fem/mesh.hpp"
 #include "fem/terms/term.hpp"
 #include "fem/vertex_layout.hpp"
+#include "kernels/enclosed_volume.hpp"
 
 #include <array>
+#include <string>
+#include <type_traits>
 #include <vector>
 
 namespace aries::fem {
 
+template <class Face>
 class FollowerPressure final : public Term {
  public:
+  static constexpr int kNodes = Face::kNodes;
   explicit FollowerPressure(const VertexTable &verts) : verts_(verts) {}
-  // The triangles of every pressure load owned by this rank, ordered with the body's outward normal. A set not in
-  // the mesh, without boundary faces, or not closed is a one-line error. Collective.
+  // The faces of every follower pressure load owned by this rank, ordered with the body's outward normal. A set not in
+  // the mesh, without boundary faces, with a face inside the body, or not closed is a one-line error. Collective.
   PetscErrorCode setup(const Mesh &mesh, const std::vector<SurfaceLoad> &loads);
   bool empty() const { return loads_ == 0; }
   void setLoad(double s) { s_ = s; }
@@ -35,18 +42,28 @@ class FollowerPressure final : public Term {
   PetscInt offRankHessianValues() const override;
 
  private:
-  struct Triangle {
-    std::array<PetscInt, 3> vertex;  // local vertex indices, outward order
+  struct PressureFace {
+    std::array<PetscInt, kNodes> vertex;  // local vertex indices, Face's node order, outward
     int set;                         // index of its load
   };
-  Eigen::Vector3d position(PetscInt v, const PetscScalar *x) const;
+  // The faces of a P2 mesh's set: the refined DM's boundary triangles come 4 to a face; each face of an element whose
+  // 3 edge nodes make one of the set's middle triangles is a face of the set.
+  PetscErrorCode quadraticFaces(const Mesh &mesh, const std::vector<PetscInt> &owned, const std::string &option,
+                                int set);
+  kernels::Mat<kNodes, 3> positions(const PressureFace &f, const PetscScalar *x) const;
+  kernels::Mat<kNodes, 3> restPositions(const PressureFace &f) const;
   const VertexTable &verts_;
-  std::vector<Triangle> triangles_;
+  std::vector<PressureFace> faces_;
   std::vector<double> pressure_;         // per load: p at load 1
   std::vector<Eigen::Vector3d> center_;  // per load: the set's rest centroid (the pieces' reference point)
   std::vector<double> restVolume_;       // per load: this rank's share of V(X) (the potential's datum)
   size_t loads_ = 0;
   double s_ = 0.0;
 };
+
+// The face type of each volume element: NV = 4 (P1 tet), 8 (Q1 hexahedron), 10 (P2 tet).
+template <int NV>
+using PressureFaceOf = std::conditional_t<NV == 8, kernels::face::Quad4,
+                                          std::conditional_t<NV == 10, kernels::face::Tri6, kernels::face::Tri3>>;
 
 }  // namespace aries::fem

@@ -1,6 +1,8 @@
 #include "fem/terms/surface_loads.hpp"
 
 #include "core/parallel.hpp"
+#include "fem/terms/boundary_facets.hpp"
+#include "kernels/enclosed_volume.hpp"
 
 #include <cmath>
 
@@ -58,21 +60,32 @@ PetscErrorCode SurfaceLoads<R>::setup(const Mesh &mesh, const std::vector<Surfac
   std::vector<char> copy;  // copies of another rank's points: a facet is counted by its owner only
   PetscCall(core::sharedLeafPoints(mesh.dm, &copy));
   for (const SurfaceLoad &load : loads) {
-    if (load.kind == SurfaceLoad::Kind::Pressure) continue;  // terms/follower_pressure.hpp
+    const bool pressure = load.kind == SurfaceLoad::Kind::Pressure;
+    if (pressure && !load.dead) continue;  // terms/follower_pressure.hpp
     ++loads_;
     const bool totalForce = load.kind == SurfaceLoad::Kind::Force;
-    const std::string option = (totalForce ? "-load_force_" : "-load_traction_") + load.set;
+    const std::string option =
+        (pressure ? "-load_pressure_" : totalForce ? "-load_force_" : "-load_traction_") + load.set;
     std::vector<PetscInt> facets;
     PetscCall(ownedGroupFacets(mesh, copy, load.set, option,
-                               "a load acts on a boundary group: faces of a tet or hexahedral mesh, edges of a planar or cloth mesh",
+                               pressure ? "a dead pressure acts on a boundary group: faces of a volume mesh, edges of a "
+                                          "planar mesh"
+                                        : "a load acts on a boundary group: faces of a tet or hexahedral mesh, edges "
+                                          "of a planar or cloth mesh",
                                &facets));
-    // The vertices of each owned facet and the rest area each of them carries (integral of its shape function).
+    // A pressure needs each facet's outward normal (the cell it bounds); a traction only its vertices.
+    std::vector<OrientedFacet> oriented;
+    if (pressure) PetscCall(orientBoundaryFacets(mesh, verts_, facets, option, &oriented));
+    // The vertices of each owned facet and the rest area each of them carries (integral of its shape function); for
+    // a pressure the area vector each carries, int N_v n dA.
     std::vector<std::vector<PetscInt>> facetVertices(facets.size());
     std::vector<std::vector<double>> shares(facets.size());
+    std::vector<std::vector<Eigen::Vector3d>> moments(facets.size());
     double local = 0.0, total = 0.0;
     for (size_t k = 0; k < facets.size(); ++k) {
       std::vector<PetscInt> &vs = facetVertices[k];
-      PetscCall(closureVertices(mesh, facets[k], &vs));
+      if (pressure) vs.assign(oriented[k].vertex.begin(), oriented[k].vertex.begin() + oriented[k].count);
+      else PetscCall(closureVertices(mesh, facets[k], &vs));
       std::vector<Eigen::Vector3d> X;
       std::vector<char> edgeNode;
       for (PetscInt v : vs) {
@@ -80,6 +93,16 @@ PetscErrorCode SurfaceLoads<R>::setup(const Mesh &mesh, const std::vector<Surfac
         if (mesh.quadratic) edgeNode.push_back(mesh.edgeNode[v]);
       }
       local += facetVertexAreas(X, edgeNode, &shares[k]);
+      if (!pressure) continue;
+      if (vs.size() == 4) {  // a possibly warped bilinear quadrangle: its normal varies over it
+        kernels::Mat<4, 3> Xq;
+        for (int v = 0; v < 4; ++v) Xq.row(v) = X[v].transpose();
+        const kernels::Mat<4, 3> m = kernels::faceAreaMoments<kernels::face::Quad4>(Xq);
+        for (int v = 0; v < 4; ++v) moments[k].push_back(m.row(v).transpose());
+      } else {  // flat: its unit normal times each vertex's share of the area
+        const Eigen::Vector3d n = restAreaVector(verts_, oriented[k]).normalized();
+        for (double a : shares[k]) moments[k].push_back(a * n);
+      }
     }
     PetscCallMPI(MPI_Allreduce(&local, &total, 1, MPI_DOUBLE, MPI_SUM, comm));
     if (!(total > 0.0))
@@ -87,7 +110,9 @@ PetscErrorCode SurfaceLoads<R>::setup(const Mesh &mesh, const std::vector<Surfac
     const Eigen::Vector3d traction = totalForce ? Eigen::Vector3d(load.value / total) : load.value;
     for (size_t k = 0; k < facetVertices.size(); ++k)
       for (size_t j = 0; j < facetVertices[k].size(); ++j)
-        for (int i = 0; i < 3; ++i) force_[3 * facetVertices[k][j] + i] += shares[k][j] * traction[i];
+        for (int i = 0; i < 3; ++i)
+          force_[3 * facetVertices[k][j] + i] +=
+              pressure ? -load.value[0] * moments[k][j][i] : shares[k][j] * traction[i];
   }
   PetscFunctionReturn(0);
 }

@@ -1,7 +1,9 @@
-// Dead surface loads on boundary groups (-load_traction_<set>, -load_force_<set>), ramped with the load parameter s:
-// each facet (a face of a tet mesh, an edge of a planar or cloth mesh) carries the traction t (force per rest area;
-// a total force F is the traction F / area of its set) and gives each of its vertices the share t area / n (n its
-// vertices): the consistent nodal forces of a constant traction on linear facets. The potential is
+// Dead surface loads on boundary groups (-load_traction_<set>, -load_force_<set>, -load_pressure_<set> with
+// -load_pressure_<set>_kind dead), ramped with the load parameter s: each facet (a face of a volume mesh, an edge of a
+// planar or cloth mesh) carries the traction t (force per rest area; a total force F is the traction F / area of its
+// set) and gives each of its vertices the consistent nodal force t int N_v dA (t area / n on a linear facet, n its
+// vertices). A dead pressure p is the traction -p n along the rest facet's outward normal n: each vertex gets
+// -p int N_v n dA (kernels::faceAreaMoments on a warped quadrangle), on any set, open or closed. The potential is
 // -s sum_v f_v . (x_v - X_v) over the free vertices (a supported vertex's share goes into its support; the rest
 // position X_v is the datum, so neither the value nor its round-off depends on the origin). Linear: no Hessian.
 #pragma once
