@@ -158,6 +158,7 @@ CATALOG = {
     },
     # verification: Lame's thick sphere under internal pressure (inner radius 0.5, outer 1), h = 0.2 ... 0.05
     "shell": {
+        "coarse": {"h": 0.3, "tets": 960},  # P2's coarsest in the inflation (bench/verification.py)
         "test": {"h": 0.2, "tets": 2338},
         "default": {"h": 0.1, "tets": 18040},
         "paper": {"alias": "default"},
@@ -173,6 +174,7 @@ CATALOG = {
         "paper": {"alias": "default"},
         "s12": {"n": 12, "hexes": 3 * 12 ** 3},
         "s16": {"n": 16, "hexes": 3 * 16 ** 3},
+        "s20": {"n": 20, "hexes": 3 * 20 ** 3},  # about the nodes of P2 on the h = 0.1 shell (24.3k vs 27.8k)
         "s24": {"n": 24, "hexes": 3 * 24 ** 3},
     },
     # verification: Lame's thick cylinder in plane strain, a quarter (inner radius 1, outer 2, one cell layer in z),
