@@ -277,6 +277,7 @@ def cells_of(name, size):
 SPHERE_ELEMENTS = [
     ("P1", "shell", [("test", 0.2), ("default", 0.1), ("fine3", 0.07)], []),
     ("P2", "shell", [("test", 0.2), ("default", 0.1), ("fine3", 0.07)], ["-element", "p2"]),
+    ("P2 curved", "shell_curved", [("test", 0.2), ("default", 0.1), ("fine3", 0.07)], ["-element", "p2"]),
     ("Q1 hex", "shell_hex", [("test", 0.25), ("default", 0.125), ("s12", 0.25 / 3), ("s16", 0.0625), ("s20", 0.05)],
      []),
 ]
@@ -310,7 +311,9 @@ def lame_elements():
     """Lame's thick sphere (a = 0.5, b = 1, iarap E = 1e4, nu = 0.3, follower pressure p = 0.1 (1e-5 E: the nonlinear
     solution is within ~1e-5 of the linear one) on the cavity, the body free, -newton_tol 1e-12) on every volume
     element: P1 and P2 tetrahedra on the gmsh shells (meshes/generate.sh shell; P2's edge nodes
-    at the straight edges' middles, so its cavity is the same polyhedron as P1's) and trilinear hexahedra on a cubed
+    at the straight edges' middles, so its cavity is the same polyhedron as P1's), P2 on gmsh's second-order meshes
+    with the same corners ("P2 curved", meshes/generate.sh shell_curved: 10-node tets whose edge nodes on the spheres
+    lie on them; isoparametric) and trilinear hexahedra on a cubed
     sphere (meshes/generate.sh shell_hex: n x n cells per cube face, n/2 radial layers). Reference: Lame's u_r(r)
     (Timoshenko & Goodier, Theory of Elasticity, 3rd ed., 1970, Sec. 137). Errors relative to u_r(a): the cavity
     wall's mean, and the largest over every node (corners and P2 edge nodes) against u_r at the node's rest radius."""
@@ -339,7 +342,8 @@ def lame_elements():
 def thick_cylinder():
     """Lame's thick cylinder in plane strain: a quarter of the tube with inner radius a = 1 and outer b = 2, one cell
     layer in z (meshes/generate.sh tube / tube_hex: n cells across the wall, about square ones around it; every node
-    on its circle), rollers on the cut faces (x = 0 held in x, y = 0 in y) and on both ends (z), a dead pressure
+    on its circle; "P2 curved": tube_curved, the same tets with every edge node at its edge's middle in polar
+    coordinates, so the walls' edges are arcs), rollers on the cut faces (x = 0 held in x, y = 0 in y) and on both ends (z), a dead pressure
     p = 0.1 (1e-5 E: the geometrically nonlinear solution is then within ~1e-5 of the linear one) on the open inner
     wall (-load_pressure_inner_kind dead), iarap E = 1e4, nu = 0.3, -newton_tol 1e-12. Reference:
     u_r(r) = (1 + nu) p a^2 / (E (b^2 - a^2)) ((1 - 2 nu) r + b^2 / r) (Timoshenko & Goodier, Sec. 28). Errors as for
@@ -351,6 +355,7 @@ def thick_cylinder():
     rows = []
     for label, name, sizes, extra in (("P1", "tube", ["test", "default", "s8", "s16"], []),
                                       ("P2", "tube", ["test", "default", "s8", "s16"], ["-element", "p2"]),
+                                      ("P2 curved", "tube_curved", ["test", "default", "s8", "s16"], ["-element", "p2"]),
                                       ("Q1 hex", "tube_hex", ["default", "s8", "s16", "s32"], [])):
         hs, errs, vmaxs, ts = [], [], [], []
         for size in sizes:
@@ -392,8 +397,9 @@ def radial_fiber_file(name, size):
     i = lines.index("$Elements") + 2
     while lines[i] != "$EndElements":
         w = [int(v) for v in lines[i].split()]
-        if w[1] in (4, 5):  # tetrahedron, hexahedron
-            cells.append(np.mean([nodes[n] for n in w[3 + w[2]:]], axis=0))
+        if w[1] in (4, 5, 11):  # tetrahedron, hexahedron, 10-node tetrahedron (its corners)
+            corners = w[3 + w[2]:][:4 if w[1] == 11 else None]
+            cells.append(np.mean([nodes[n] for n in corners], axis=0))
         i += 1
     with open(out, "w") as fh:
         fh.write("# radial fibers of %s\n%d\n" % (os.path.basename(path), len(cells)))
@@ -409,7 +415,7 @@ def inflation():
     about the radius, so the state stays spherically symmetric), gamma = 5e3, at p = 3000 (40%). Reference: the
     spherically symmetric equilibrium of the same energy (the radial ODE, bench/radial_reference.py: shooting with
     DOP853 at rtol 1e-12, the outer traction brought to 1e-10 p; it reproduces Lame's u_r(a) to 5e-8 at small strain).
-    Errors relative to the reference's u_r(a), as above; P2 on the shells of h = 0.3, 0.2, 0.1."""
+    Errors relative to the reference's u_r(a), as above; P2 (straight and curved) on the shells of h = 0.3, 0.2, 0.1."""
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
     from radial_reference import RadialInflation
     E, nu, a, b = 1e4, 0.3, 0.5, 1.0
@@ -420,7 +426,7 @@ def inflation():
         for label, name, sizes, extra in SPHERE_ELEMENTS:
             hs, errs, vmaxs, ts = [], [], [], []
             # P2 from h = 0.3 (its h = 0.07 run would take longer than the rest of the study together)
-            for size, h in ([("coarse", 0.3)] + sizes[:2] if label == "P2" else sizes[:3]):
+            for size, h in ([("coarse", 0.3)] + sizes[:2] if label.startswith("P2") else sizes[:3]):
                 energy = ["-energy", "iarap"] if gamma == 0 else [
                     "-energy", "fiber", "-gamma", str(gamma), "-fiber_file", radial_fiber_file(name, size)]
                 rest, x, st, wall = run("inflate_%s_%s_%s" % (material.split()[0], name, size) + ("_p2" if extra else ""),

@@ -14,6 +14,8 @@ import re
 import shutil
 import subprocess
 
+import numpy as np
+
 from harness import aries_cmd, fail, mpi_env
 
 ARGS = None
@@ -106,6 +108,17 @@ $EndElements
 """
 
 
+def second_order_tet_msh(order):
+    """One 10-node tetrahedron (corners 1-4, edge nodes 5-10 at the edges' middles), its nodes listed in `order`
+    (gmsh's: corners, then the nodes on edges 01, 12, 02, 03, 23, 13)."""
+    X = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=float)
+    edges = [(0, 1), (1, 2), (0, 2), (0, 3), (2, 3), (1, 3)]
+    X = np.r_[X, [(X[a] + X[b]) / 2 for a, b in edges]]
+    nodes = "".join("%d %g %g %g\n" % (i + 1, *x) for i, x in enumerate(X))
+    return ("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n10\n%s$EndNodes\n$Elements\n1\n1 11 2 1 1 %s\n"
+            "$EndElements\n" % (nodes, " ".join(str(k + 1) for k in order)))
+
+
 def write(name, text):
     """Writes the file atomically: cases run in parallel in one directory and share names (good.msh), so a case
     must never read another's half-written copy."""
@@ -167,6 +180,17 @@ def case_defs():
     d["unsupported_element"] = (lambda: ["-dm_plex_filename", write("prism.msh", TET_MSH.replace(
         "3 4 2 1 1 2 3 4 5", "3 6 2 1 1 1 2 3 4 5 1"))],
                                 r"prism\.msh' line \d+: unsupported element type 6 \(6-node prism\)")
+    # A 10-node tetrahedron whose edge nodes are not in gmsh's order (nodes 8 and 9 swapped) is refused by -element
+    # p2, which places them; the same file in order is read (the e2e tests run second-order meshes).
+    d["second_order_node_order"] = (lambda: ["-dm_plex_filename", write("tet10_order.msh", second_order_tet_msh(
+        [0, 1, 2, 3, 4, 5, 6, 7, 9, 8])), "-element", "p2"],
+                                    r"tet10_order\.msh': the edge node at \(0, 0\.5, 0\.5\) lies 0\.5 edge lengths from "
+                                    r"the middle of its edge \(.*\) \(more than 0\.25\); the 10-node tetrahedra must "
+                                    r"list their nodes in gmsh's order")
+    d["gmsh_highorder_field"] = (lambda: ["-dm_plex_filename", write("tet10.msh", second_order_tet_msh(range(10))),
+                                          "-dm_plex_gmsh_highorder", "true"],
+                                 r"option -dm_plex_gmsh_highorder: aries reads a second-order gmsh mesh as its "
+                                 r"corners, and -element p2 takes the edge nodes from the file itself; remove the option")
     d["mixed_cells"] = (lambda: ["-dm_plex_filename", write("mixed.msh", HEX_MSH.replace(
         "$EndNodes", "13 0.5 0.5 -1\n$EndNodes").replace("$Elements\n2\n", "$Elements\n3\n").replace(
         "$EndElements", "3 4 2 1 1 1 2 4 13\n$EndElements").replace("$Nodes\n12\n", "$Nodes\n13\n"))],

@@ -48,9 +48,9 @@ inline constexpr OptionDecl uvMap =
 
 inline constexpr OptionDecl element =
     choiceOption("-element", "p1|p2",
-                 "the element on a tetrahedral mesh: linear (p1, one point per cell) or quadratic (p2: 10 nodes with "
-                 "straight edges, a node at each edge's middle, 4 quadrature points; a gmsh mesh only). A hexahedral "
-                 "mesh has trilinear hexahedra")
+                 "the element on a tetrahedral mesh: linear (p1, one point per cell) or quadratic (p2: 10 nodes, 4 "
+                 "quadrature points; a gmsh mesh only): a node at each edge's middle, or where a second-order mesh's "
+                 "10-node tetrahedra put it (curved, isoparametric). A hexahedral mesh has trilinear hexahedra")
         .byDefault("p1");
 
 inline constexpr OptionDecl meshFaces =

@@ -22,7 +22,8 @@ using core::collectiveCheck;
 namespace {
 
 // Element types aries can read: gmsh 1 = 2-node line, 2 = 3-node triangle, 3 = 4-node quadrangle (the faces of
-// hexahedra), 4 = 4-node tetrahedron, 5 = 8-node hexahedron, 15 = point.
+// hexahedra), 4 = 4-node tetrahedron, 5 = 8-node hexahedron, 15 = point, and the second-order simplices 8 = 3-node
+// line, 9 = 6-node triangle, 11 = 10-node tetrahedron (read as their corners; -element p2 takes their edge nodes).
 int nodesOfType(int type) {
   switch (type) {
     case 1: return 2;
@@ -30,10 +31,26 @@ int nodesOfType(int type) {
     case 3: return 4;
     case 4: return 4;
     case 5: return 8;
+    case 8: return 3;
+    case 9: return 6;
+    case 11: return 10;
     case 15: return 1;
     default: return -1;
   }
 }
+
+// The corners of an element: its first nodes (a second-order element lists its edge nodes after them).
+int cornersOfType(int type) {
+  switch (type) {
+    case 8: return 2;
+    case 9: return 3;
+    case 11: return 4;
+    default: return nodesOfType(type);
+  }
+}
+
+// gmsh's 10-node tetrahedron: node 4 + k sits on the edge joining corners kGmshTet10Edges[k] (gmsh's node order).
+constexpr int kGmshTet10Edges[6][2] = {{0, 1}, {1, 2}, {0, 2}, {0, 3}, {2, 3}, {1, 3}};
 
 const char *typeName(int type) {
   switch (type) {
@@ -104,17 +121,19 @@ bool checkElementType(Reader &r, int type) {
   if (nodesOfType(type) > 0) return true;
   std::ostringstream o;
   o << "unsupported element type " << type << " (" << typeName(type)
-    << "); aries reads linear tetrahedra, triangles and trilinear hexahedra (with lines, quadrangles and points for "
-         "boundary groups)";
+    << "); aries reads tetrahedra (4 or 10 nodes), triangles and trilinear hexahedra (with lines, triangles, "
+         "quadrangles and points for boundary groups)";
   return r.fail(o.str());
 }
 
 int dimensionOfType(int type) {
   switch (type) {
     case 15: return 0;
-    case 1: return 1;
+    case 1:
+    case 8: return 1;
     case 2:
-    case 3: return 2;
+    case 3:
+    case 9: return 2;
     default: return 3;
   }
 }
@@ -135,6 +154,10 @@ struct NodeData {
     std::array<long, 4> node;  // positions in the file
   };
   std::vector<Tagged> tagged;  // triangles and quadrangles with a physical tag (collecting)
+  struct EdgeNode {
+    long a, b, node;  // corners and the edge node: positions in the file
+  };
+  std::vector<EdgeNode> edgeNodes;  // of every 10-node tetrahedron (collecting)
 
   bool addNode(long tag, double x, double y, double z) {
     const double p[3] = {x, y, z};
@@ -146,32 +169,58 @@ struct NodeData {
     if (facets) xyz.insert(xyz.end(), p, p + 3);
     return true;
   }
-  // An element of `type` with `n` node tags (all defined) and its first physical tag (hasTag).
-  void addElement(int type, bool hasTag, int tag, const double *nodeTags, int n) {
+  // An element of `type` with its node tags (all defined) and its first physical tag (hasTag).
+  void addElement(int type, bool hasTag, int tag, const double *nodeTags) {
     if (!facets) return;
     if (corner.size() != index.size()) corner.assign(index.size(), 0);
     facets->cellDim = std::max(facets->cellDim, dimensionOfType(type));
-    Tagged t{dimensionOfType(type), tag, n, {}};
-    for (int k = 0; k < n; ++k) {
+    const int corners = cornersOfType(type);
+    Tagged t{dimensionOfType(type), tag, corners, {}};
+    for (int k = 0; k < corners; ++k) {
       const long i = index.at(static_cast<long>(nodeTags[k]));
       corner[i] = 1;
       if (k < 4) t.node[k] = i;
     }
-    if (hasTag && t.dim == 2 && n <= 4) tagged.push_back(t);  // the faces of a 3D mesh
+    if (hasTag && t.dim == 2 && corners <= 4) tagged.push_back(t);  // the faces of a 3D mesh
+    if (type == 11) {
+      facets->secondOrder = true;
+      for (int k = 0; k < 6; ++k)
+        edgeNodes.push_back({index.at(static_cast<long>(nodeTags[kGmshTet10Edges[k][0]])),
+                             index.at(static_cast<long>(nodeTags[kGmshTet10Edges[k][1]])),
+                             index.at(static_cast<long>(nodeTags[4 + k]))});
+    }
   }
   GmshFacts facts() const {
     return GmshFacts{true, hi[2] - lo[2], std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]})};
   }
   // The facets PETSc 3.18's reader labels: elements one dimension below the cells ("Face Sets"; it labels no lines
   // in 3D), their corners numbered as PETSc numbers its vertices.
+  // The edge nodes of the 10-node tetrahedra, by the same numbering, once per edge.
   void finishFacets() {
-    if (!facets || !facets->known) return;
+    if (!facets) return;
     if (corner.size() != index.size()) corner.assign(index.size(), 0);
     std::vector<long> vertexOf(corner.size(), -1);
     long count = 0;
     for (size_t i = 0; i < corner.size(); ++i)
       if (corner[i]) vertexOf[i] = count++;
     facets->numVertices = count;
+    for (const EdgeNode &e : edgeNodes) {
+      GmshFacets::EdgeNode n;
+      n.a = std::min(vertexOf[e.a], vertexOf[e.b]);
+      n.b = std::max(vertexOf[e.a], vertexOf[e.b]);
+      for (int d = 0; d < 3; ++d) n.x[d] = xyz[3 * e.node + d];
+      facets->edgeNodes.push_back(n);
+    }
+    std::sort(facets->edgeNodes.begin(), facets->edgeNodes.end(),
+              [](const GmshFacets::EdgeNode &p, const GmshFacets::EdgeNode &q) {
+                return p.a != q.a ? p.a < q.a : p.b < q.b;
+              });
+    facets->edgeNodes.erase(std::unique(facets->edgeNodes.begin(), facets->edgeNodes.end(),
+                                        [](const GmshFacets::EdgeNode &p, const GmshFacets::EdgeNode &q) {
+                                          return p.a == q.a && p.b == q.b && p.x == q.x;  // two nodes on one edge stay
+                                        }),
+                            facets->edgeNodes.end());
+    if (!facets->known) return;
     const int cellDim = facets->cellDim;
     for (const Tagged &t : tagged) {
       if (t.dim != cellDim - 1) continue;
@@ -234,8 +283,7 @@ bool elements2(Reader &r, NodeData *nodes) {
       if (!nodes->index.count(static_cast<long>(v[k])))
         return r.fail("element " + std::to_string((long)v[0]) + " uses node " + std::to_string((long)v[k]) +
                       ", which is not defined");
-    nodes->addElement(type, ntags > 0, ntags > 0 ? static_cast<int>(v[3]) : 0, v.data() + 3 + ntags,
-                      nodesOfType(type));
+    nodes->addElement(type, ntags > 0, ntags > 0 ? static_cast<int>(v[3]) : 0, v.data() + 3 + ntags);
   }
   if (!r.expect("$EndElements"))
     return r.fail("$Elements declares " + std::to_string(n) + " elements but has more or fewer");
@@ -286,7 +334,7 @@ bool elements4(Reader &r, NodeData *nodes) {
       if (v.size() != static_cast<size_t>(1 + nodesOfType(type))) return r.fail("element line with a wrong number of nodes");
       for (size_t k = 1; k < v.size(); ++k)
         if (!nodes->index.count(static_cast<long>(v[k]))) return r.fail("element uses undefined node " + std::to_string((long)v[k]));
-      nodes->addElement(type, tag >= 0, tag, v.data() + 1, nodesOfType(type));
+      nodes->addElement(type, tag >= 0, tag, v.data() + 1);
     }
     seen += n;
   }

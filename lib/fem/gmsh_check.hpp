@@ -1,8 +1,8 @@
 // Structural check of a gmsh file before PETSc reads it, so a malformed file gets one message naming the file, the
 // line and what is wrong instead of a reader traceback: regular file with the .msh extension, $MeshFormat 2.x or
 // 4.x, for ASCII files the $Nodes/$Elements counts and line shapes, defined node references, and supported element
-// types (linear tetrahedra, triangles and trilinear hexahedra, lines, quadrangles and points for boundary groups).
-// Binary files are checked only through their header.
+// types (tetrahedra with 4 or 10 nodes, triangles and trilinear hexahedra, lines, triangles, quadrangles and points for
+// boundary groups). Binary files are checked only through their header.
 #pragma once
 
 #include <petscsys.h>
@@ -35,6 +35,14 @@ struct GmshFacets {
   int cellDim = 0;     // the largest element dimension (PETSc's cells)
   long numVertices = 0;
   std::vector<Facet> facets;
+  // The edge nodes of 10-node tetrahedra (any ASCII file): one per edge, sorted by the corners' serial vertex numbers
+  // (a < b). The quadratic elements (-element p2) take their edge nodes from here: curved where the file's are.
+  struct EdgeNode {
+    long a = 0, b = 0;
+    std::array<double, 3> x{};
+  };
+  bool secondOrder = false;  // the file has 10-node tetrahedra
+  std::vector<EdgeNode> edgeNodes;
 };
 
 // Collective: rank 0 reads the file; every rank raises the same PETSC_ERR_USER_INPUT on a problem and receives the

@@ -196,9 +196,6 @@ PetscErrorCode restBoundingBox(MPI_Comm comm, Mesh *mesh) {
   PetscFunctionReturn(0);
 }
 
-
-bool isHdf5Mesh(const std::string &file) { return file.size() > 3 && file.compare(file.size() - 3, 3, ".h5") == 0; }
-
 // Natural id of every point of a serial mesh's chart: its cell or vertex number, -1 for faces and edges.
 PetscErrorCode serialNaturalIds(DM dm, std::vector<PetscInt> *natural) {
   PetscInt pStart, pEnd, cStart, cEnd, vStart, vEnd;
@@ -215,13 +212,16 @@ PetscErrorCode serialNaturalIds(DM dm, std::vector<PetscInt> *natural) {
 // The gmsh file, read on rank 0 (the other ranks get an empty mesh): its DM, the natural id of every point, the
 // physical names and the global counts.
 PetscErrorCode readGmshMesh(MPI_Comm comm, Mesh *mesh, DM *serial, std::vector<PetscInt> *natural, bool mayDeferFaces,
-                            bool *deferred, std::vector<long long> *facetRows) {
+                            bool *deferred, std::vector<long long> *facetRows,
+                            std::vector<GmshFacets::EdgeNode> *edgeNodes) {
   PetscMPIInt rank;
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   GmshFacts facts;
   GmshFacets facets;
-  PetscCall(validateGmshFile(comm, mesh->filename, &facts, mesh->fileOption, mayDeferFaces ? &facets : nullptr));
+  PetscCall(validateGmshFile(comm, mesh->filename, &facts, mesh->fileOption,
+                             mayDeferFaces || edgeNodes ? &facets : nullptr));
+  if (edgeNodes) *edgeNodes = std::move(facets.edgeNodes);
   PetscCall(parsePhysicalNames(comm, rank == 0 ? physicalNamesBlob(mesh->filename) : std::string(),
                                &mesh->physicalNames));
   // Without this PETSc 3.18 drops gmsh point groups (pinned vertex sets) instead of labelling them.
@@ -289,10 +289,16 @@ PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh, const std::string &file, cons
   bool deferredFaces = false;
   std::vector<long long> facetRows;  // rank 0: the tagged faces of a mesh read without faces
   if (hdf5) PetscCall(readHdf5Mesh(comm, mesh, &loaded, &loadedNatural));
-  else PetscCall(readGmshMesh(comm, mesh, &loaded, &loadedNatural, mayDeferFaces, &deferredFaces, &facetRows));
+  const bool quadratic = core::choices(opt::element)[elementChoice] == std::string("p2");
+  std::vector<GmshFacets::EdgeNode> edgeNodes;  // rank 0: a second-order file's edge nodes, for -element p2
+  if (!hdf5)
+    PetscCall(readGmshMesh(comm, mesh, &loaded, &loadedNatural, mayDeferFaces, &deferredFaces, &facetRows,
+                           quadratic ? &edgeNodes : nullptr));
   PetscInt numEdgesGlobal = 0;
+  std::vector<double> loadedEdgeX;  // per point of the loaded mesh: an edge's node (3 numbers), where the file has it
   {
     PetscErrorCode ierr = chooseElement(comm, loaded, hdf5, mesh, &loadedNatural, &numEdgesGlobal);
+    if (!ierr && quadratic) ierr = placeEdgeNodes(comm, loaded, *mesh, edgeNodes, &loadedEdgeX);
     if (ierr) PetscCall(DMDestroy(&loaded));
     PetscCall(ierr);
   }
@@ -326,9 +332,11 @@ PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh, const std::string &file, cons
   PetscCall(DMPlexGetDepthStratum(mesh->dm, 0, &mesh->vStart, &mesh->vEnd));
 
   std::vector<PetscInt> pointNatural;
+  std::vector<double> pointEdgeX;
+  PetscCall(migrateEdgeNodes(migration, loadedEdgeX, mesh->dm, &pointEdgeX));
   PetscCall(numberNaturally(migration, loadedNatural, mesh, &pointNatural));  // destroys the migration SF
   if (deferredFaces) PetscCall(labelGmshFacets(comm, mesh, std::move(facetRows)));
-  if (mesh->quadratic) PetscCall(refineToQuadratic(mesh, pointNatural, numEdgesGlobal));
+  if (mesh->quadratic) PetscCall(refineToQuadratic(mesh, pointNatural, numEdgesGlobal, pointEdgeX));
 
   // PETSc's mesh viewer (-dm_view[ :file:format], e.g. -dm_view ::ascii_info_detail or -dm_view hdf5:mesh.h5) on the
   // distributed mesh.

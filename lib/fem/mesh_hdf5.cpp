@@ -201,6 +201,8 @@ PetscErrorCode vertexNaturalIds(MPI_Comm comm, PetscSF vertexSF, PetscInt blockS
 
 }  // namespace
 
+bool isHdf5Mesh(const std::string &file) { return file.size() > 3 && file.compare(file.size() - 3, 3, ".h5") == 0; }
+
 // Vertices of point p in its closure order, as natural ids (vertexNatural[v - vStart]).
 PetscErrorCode closureVertices(DM dm, PetscInt p, PetscInt vStart, PetscInt vEnd, const PetscInt *vertexNatural,
                                std::vector<long long> *ids) {

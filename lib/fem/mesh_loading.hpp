@@ -21,8 +21,10 @@ PetscErrorCode parsePhysicalNames(MPI_Comm comm, std::string blob, std::map<std:
 // vertex number, -1 for others), the physical names and the global counts. With mayDeferFaces, a mesh whose faces and
 // edges can be made after distribution (-mesh_faces) is read as cells and vertices only (*deferred): facetRows (rank
 // 0) then holds its tagged faces for labelGmshFacets.
+// edgeNodes (rank 0, optional): the edge nodes of the file's 10-node tetrahedra (GmshFacets::edgeNodes).
 PetscErrorCode readGmshMesh(MPI_Comm comm, Mesh *mesh, DM *serial, std::vector<PetscInt> *natural, bool mayDeferFaces,
-                            bool *deferred, std::vector<long long> *facetRows);
+                            bool *deferred, std::vector<long long> *facetRows,
+                            std::vector<GmshFacets::EdgeNode> *edgeNodes = nullptr);
 // PETSc's gmsh reader on rank 0 (fem/mesh_facets.cpp): a 3D mesh whose tagged faces `facets` holds (and PETSc's
 // default gmsh labels) as cells and vertices only, when mayDeferFaces (*deferred; facetRows: rank 0's rows of its tagged
 // faces); any other mesh with its faces and edges. Collective.
@@ -59,6 +61,17 @@ PetscErrorCode chooseElement(MPI_Comm comm, DM loaded, bool hdf5, Mesh *mesh, st
 // The distributed tetrahedral mesh refined once into the quadratic mesh's DM (fem/mesh.hpp: quadratic): its vertices
 // are the P2 nodes with natural ids, its elements the cells as read. pointNatural: the natural id of every point of
 // mesh->dm (cells, vertices and edges). Collective.
-PetscErrorCode refineToQuadratic(Mesh *mesh, const std::vector<PetscInt> &pointNatural, PetscInt numEdgesGlobal);
+// Rank 0: the position of every edge's node of the serial mesh `loaded` from a second-order file's edge nodes (3
+// numbers per point of the chart, NaN for points that are no edge); none (empty) for a linear file: the edge nodes then
+// sit at the middles. A file whose edge nodes do not match the mesh's edges, or lie far from their edge's middle, is
+// refused with a one-line error. Collective.
+PetscErrorCode placeEdgeNodes(MPI_Comm comm, DM loaded, const Mesh &mesh, const std::vector<GmshFacets::EdgeNode> &nodes,
+                              std::vector<double> *edgeX);
+// The edge nodes' positions carried from the loaded mesh to the distributed one `dm` by the migration SF (none on one
+// rank: a copy); empty stays empty. Collective.
+PetscErrorCode migrateEdgeNodes(PetscSF migration, const std::vector<double> &loaded, DM dm, std::vector<double> *local);
+// pointEdgeX (optional, 3 per point of mesh->dm): the edge nodes' positions (curved edges of a second-order file).
+PetscErrorCode refineToQuadratic(Mesh *mesh, const std::vector<PetscInt> &pointNatural, PetscInt numEdgesGlobal,
+                                 const std::vector<double> &pointEdgeX);
 
 }  // namespace aries::fem::loading

@@ -6,14 +6,19 @@
 // edge's number in the serial mesh, read on rank 0 for any number of ranks, so they do not depend on the partition.
 #include "fem/mesh_loading.hpp"
 
+#include "core/errors.hpp"
 #include "core/options.hpp"
 #include "fem/fem_options.hpp"
 #include "kernels/element_rules.hpp"
 
 #include <petscdmplextransform.h>
+#include <petscsf.h>
 
 #include <algorithm>
+#include <cmath>
 #include <memory>
+#include <sstream>
+#include <string>
 
 namespace aries::fem::loading {
 
@@ -45,6 +50,95 @@ PetscErrorCode chooseElement(MPI_Comm comm, DM loaded, bool hdf5, Mesh *mesh, st
   PetscInt count = eEnd - eStart;
   PetscCallMPI(MPI_Bcast(&count, 1, MPIU_INT, 0, comm));
   *numEdgesGlobal = count;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode placeEdgeNodes(MPI_Comm comm, DM loaded, const Mesh &mesh, const std::vector<GmshFacets::EdgeNode> &nodes,
+                              std::vector<double> *edgeX) {
+  PetscFunctionBeginUser;
+  edgeX->clear();
+  long long count = static_cast<long long>(nodes.size());  // rank 0's; none elsewhere
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &count, 1, MPI_LONG_LONG, MPI_SUM, comm));
+  if (count == 0) PetscFunctionReturn(0);  // a linear file: straight edges, the nodes at the middles
+  std::string error;
+  PetscInt pStart, pEnd, vStart, vEnd, eStart, eEnd;
+  PetscCall(DMPlexGetChart(loaded, &pStart, &pEnd));
+  PetscCall(DMPlexGetDepthStratum(loaded, 0, &vStart, &vEnd));
+  PetscCall(DMPlexGetDepthStratum(loaded, 1, &eStart, &eEnd));
+  if (eEnd > eStart) {
+    edgeX->assign(3 * (pEnd - pStart), std::nan(""));
+    if (static_cast<long long>(eEnd - eStart) != count)
+      error = "mesh '" + mesh.filename + "': its 10-node tetrahedra have " + std::to_string(count) +
+              " distinct edge nodes for " + std::to_string(eEnd - eStart) +
+              " edges; a second-order mesh has one node on every edge, shared by the tetrahedra around it";
+    Vec coords;
+    PetscSection section;
+    const PetscScalar *x;
+    PetscCall(DMGetCoordinatesLocal(loaded, &coords));
+    PetscCall(DMGetCoordinateSection(loaded, &section));
+    PetscCall(VecGetArrayRead(coords, &x));
+    auto position = [&](PetscInt v) {
+      PetscInt off;
+      PetscCallAbort(PETSC_COMM_SELF, PetscSectionGetOffset(section, v, &off));
+      return Eigen::Vector3d(x[off], x[off + 1], x[off + 2]);
+    };
+    auto point = [](const Eigen::Vector3d &p) {
+      std::ostringstream o;
+      o << "(" << p[0] << ", " << p[1] << ", " << p[2] << ")";
+      return o.str();
+    };
+    for (PetscInt e = eStart; e < eEnd && error.empty(); ++e) {
+      const PetscInt *cone;
+      PetscCall(DMPlexGetCone(loaded, e, &cone));
+      const long a = std::min(cone[0], cone[1]) - vStart, b = std::max(cone[0], cone[1]) - vStart;
+      const auto found = std::lower_bound(nodes.begin(), nodes.end(), std::make_pair(a, b),
+                                          [](const GmshFacets::EdgeNode &n, const std::pair<long, long> &k) {
+                                            return n.a != k.first ? n.a < k.first : n.b < k.second;
+                                          });
+      const Eigen::Vector3d A = position(cone[0]), B = position(cone[1]);
+      if (found == nodes.end() || found->a != a || found->b != b) {
+        error = "mesh '" + mesh.filename + "': the edge from " + point(A) + " to " + point(B) +
+                " has no node in the file's 10-node tetrahedra";
+        break;
+      }
+      const Eigen::Vector3d node(found->x[0], found->x[1], found->x[2]);
+      // A curved edge's node lies near its middle (a quarter circle's: 0.21 of the chord away); one far off means a
+      // node order aries does not read (gmsh's: nodes 4-9 on edges 01, 12, 02, 03, 23, 13).
+      if ((node - 0.5 * (A + B)).norm() > 0.25 * (B - A).norm()) {
+        std::ostringstream off;
+        off << (node - 0.5 * (A + B)).norm() / (B - A).norm();
+        error = "mesh '" + mesh.filename + "': the edge node at " + point(node) + " lies " + off.str() +
+                " edge lengths from the middle of its edge " + point(A) + " - " + point(B) +
+                " (more than 0.25); the 10-node tetrahedra must list their nodes in gmsh's order";
+        break;
+      }
+      for (int d = 0; d < 3; ++d) (*edgeX)[3 * (e - pStart) + d] = node[d];
+    }
+    PetscCall(VecRestoreArrayRead(coords, &x));
+  }
+  PetscCall(core::collectiveCheck(comm, !error.empty(), error));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode migrateEdgeNodes(PetscSF migration, const std::vector<double> &loaded, DM dm, std::vector<double> *local) {
+  PetscFunctionBeginUser;
+  local->clear();
+  int any = !loaded.empty();
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPI_INT, MPI_MAX, PetscObjectComm((PetscObject)dm)));
+  if (!any) PetscFunctionReturn(0);
+  PetscInt pStart, pEnd;
+  PetscCall(DMPlexGetChart(dm, &pStart, &pEnd));
+  if (!migration) {  // one rank: the loaded mesh is the mesh
+    *local = loaded;
+    PetscFunctionReturn(0);
+  }
+  local->assign(3 * (pEnd - pStart), std::nan(""));
+  MPI_Datatype triple;
+  PetscCallMPI(MPI_Type_contiguous(3, MPI_DOUBLE, &triple));
+  PetscCallMPI(MPI_Type_commit(&triple));
+  PetscCall(PetscSFBcastBegin(migration, triple, loaded.data(), local->data(), MPI_REPLACE));
+  PetscCall(PetscSFBcastEnd(migration, triple, loaded.data(), local->data(), MPI_REPLACE));
+  PetscCallMPI(MPI_Type_free(&triple));
   PetscFunctionReturn(0);
 }
 
@@ -115,7 +209,8 @@ PetscErrorCode orientElements(Mesh *mesh) {
 
 }  // namespace
 
-PetscErrorCode refineToQuadratic(Mesh *mesh, const std::vector<PetscInt> &pointNatural, PetscInt numEdgesGlobal) {
+PetscErrorCode refineToQuadratic(Mesh *mesh, const std::vector<PetscInt> &pointNatural, PetscInt numEdgesGlobal,
+                                 const std::vector<double> &pointEdgeX) {
   DM coarse = mesh->dm, fine = nullptr;
   DMPlexTransform tr;
   PetscInt pStart, pEnd, vStart, vEnd, cStart, cEnd;
@@ -132,6 +227,14 @@ PetscErrorCode refineToQuadratic(Mesh *mesh, const std::vector<PetscInt> &pointN
 
   std::vector<PetscInt> naturalVertex(vEnd - vStart, -1);
   mesh->edgeNode.assign(vEnd - vStart, 0);
+  Vec coords = nullptr;
+  PetscSection coordSection = nullptr;
+  PetscScalar *x = nullptr;
+  if (!pointEdgeX.empty()) {  // a second-order file: its (curved) edge nodes replace the middles
+    PetscCall(DMGetCoordinatesLocal(fine, &coords));
+    PetscCall(DMGetCoordinateSection(fine, &coordSection));
+    PetscCall(VecGetArray(coords, &x));
+  }
   for (PetscInt v = vStart; v < vEnd; ++v) {
     DMPolytopeType source, target;
     PetscInt p, r;
@@ -140,6 +243,17 @@ PetscErrorCode refineToQuadratic(Mesh *mesh, const std::vector<PetscInt> &pointN
     mesh->edgeNode[v - vStart] = source == DM_POLYTOPE_SEGMENT;
     PetscCheck(naturalVertex[v - vStart] >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "refined vertex %d has no natural id",
                (int)v);
+    if (x && source == DM_POLYTOPE_SEGMENT) {
+      const double *node = &pointEdgeX[3 * (p - pStart)];
+      PetscCheck(std::isfinite(node[0]), PETSC_COMM_SELF, PETSC_ERR_PLIB, "edge %d has no node position", (int)p);
+      PetscInt off;
+      PetscCall(PetscSectionGetOffset(coordSection, v, &off));
+      for (int d = 0; d < 3; ++d) x[off + d] = node[d];
+    }
+  }
+  if (x) {
+    PetscCall(VecRestoreArray(coords, &x));
+    PetscCall(DMSetCoordinatesLocal(fine, coords));  // drops the global coordinates made from the middles
   }
   const PetscInt numElements = mesh->cEnd - mesh->cStart;
   mesh->elementNodes.resize(numElements);

@@ -183,20 +183,23 @@ PetscErrorCode DiscretizationT<R, C, NV>::checkRestCells(const Mesh &mesh, const
 }
 
 // The rest volume an element gives node v for gravity, the consistent load int N_v: the row sums of its consistent
-// mass, sum_q w_q N_v(xi_q) (exact: the point rules integrate N_v); measure / NV on a simplex, measure / 8 on a
-// parallelepiped, -measure / 20 at a quadratic tetrahedron's corner and measure / 5 at its edge nodes.
+// mass, sum_q w_q N_v(xi_q) (exact where the element is affine or a parallelepiped: the point rules integrate N_v);
+// measure / NV on a simplex, measure / 8 on a parallelepiped, -measure / 20 at a straight quadratic tetrahedron's
+// corner and measure / 5 at its edge nodes (a curved one's, from a second-order mesh, to the rule's accuracy).
 template <int R, int C, int NV>
 double DiscretizationT<R, C, NV>::consistentShare(const Cell &cell, int v) const {
   double share = 0.0;
   if constexpr (NV == 8)
     for (int q = 0; q < NQ; ++q) share += cell.weight[q] * kernels::hex8::shapeValues(kernels::hex8::gaussPoint(q))[v];
   else if constexpr (NV == 10)
-    share = cell.measure * kernels::tet10::consistentShare(v);
+    for (int q = 0; q < NQ; ++q)
+      share += cell.weight[q] * kernels::tet10::shapeValues(kernels::tet10::pointBarycentrics(q))[v];
   return share;
 }
 
 // ... and for the lumped mass: the row sums where they are positive (Q1), HRZ for the quadratic tetrahedron (its
-// corners' row sums are negative; kernels::tet10::lumpedShare).
+// corners' row sums are negative; kernels::tet10::lumpedShare: the straight element's fractions of its volume, also on
+// a curved one).
 template <int R, int C, int NV>
 double DiscretizationT<R, C, NV>::lumpedShare(const Cell &cell, int v) const {
   if constexpr (NV == 10) return cell.measure * kernels::tet10::lumpedShare(v);

@@ -179,7 +179,8 @@ inline double restPoints(const Mat<kNodes, 3> &X, std::array<Mat<kNodes, 3>, kPo
 
 // The lumped mass of a straight-edged P2 tet of volume V (HRZ: the consistent mass's diagonal, int N_i^2 = V/70 at a
 // corner and 8V/105 at an edge node, scaled to the total): V/36 per corner, 4V/27 per edge node, all positive (the
-// row sums, int N_i = -V/20 at a corner, are not). Gravity uses the consistent load int N_i instead (consistentShare).
+// row sums, int N_i = -V/20 at a corner, are not). Gravity uses the consistent load int N_i instead, summed over the
+// points (fem/rest_geometry.cpp; consistentShare: its values on a straight-edged element, which the rule gives exactly).
 inline double lumpedShare(int node) { return node < 4 ? 1.0 / 36.0 : 4.0 / 27.0; }
 inline double consistentShare(int node) { return node < 4 ? -1.0 / 20.0 : 1.0 / 5.0; }
 

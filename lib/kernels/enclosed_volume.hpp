@@ -138,4 +138,18 @@ inline Mat<Face::kNodes, 3> faceAreaMoments(const Mat<Face::kNodes, 3> &X) {
   return m;
 }
 
+// The shares of a face's rest area, entry A = int N_A dA = int N_A |X_u x X_v| du dv (the consistent nodal loads of a
+// unit traction; exact on flat faces, to the rule's degree on curved ones): A / 3 per corner of a flat triangle; 0 at
+// the corners and A / 3 at the edge nodes of a flat 6-node triangle.
+template <class Face>
+inline Vec<Face::kNodes> faceAreaShares(const Mat<Face::kNodes, 3> &X) {
+  Vec<Face::kNodes> s = Vec<Face::kNodes>::Zero();
+  for (int q = 0; q < Face::kPoints; ++q) {
+    Vec<Face::kNodes> N, Nu, Nv;
+    const double w = Face::point(q, &N, &Nu, &Nv);
+    s += w * (X.transpose() * Nu).cross(X.transpose() * Nv).norm() * N;
+  }
+  return s;
+}
+
 }  // namespace aries::kernels

@@ -180,6 +180,7 @@ CATALOG = {
     # verification: Lame's thick cylinder in plane strain, a quarter (inner radius 1, outer 2, one cell layer in z),
     # n cells across the wall (bench/verification.py); P1 / P2 on "tube", trilinear hexahedra on "tube_hex"
     "tube": tube_sizes("tets", 6),
+    "tube_curved": tube_sizes("tets", 6),  # "tube" with curved edge nodes (10-node tets)
     "tube_hex": tube_sizes("hexes", 1),
     # triangle surface meshes
     "cloth": {
@@ -216,6 +217,8 @@ CATALOG = {
         "paper": {"alias": "default"},
     },
 }
+# "shell" (the same corners, all its sizes but fine5) as gmsh's second-order mesh: 10-node tets, edge nodes on the spheres
+CATALOG["shell_curved"] = {size: dict(p) for size, p in CATALOG["shell"].items() if size != "fine5"}
 
 PAPER = {  # the paper's meshes (Table 1: tets, Table 2: cloth triangles), for the listing
     "cylinder": "17,840",
@@ -237,6 +240,8 @@ PAPER = {  # the paper's meshes (Table 1: tets, Table 2: cloth triangles), for t
     "tube": "(verification: Lame's thick cylinder, plane strain)",
     "shell_hex": "(verification: Lame's sphere, hexahedra)",
     "tube_hex": "(verification: Lame's thick cylinder, plane strain, hexahedra)",
+    "shell_curved": "(verification: Lame's sphere, second-order tets)",
+    "tube_curved": "(verification: Lame's thick cylinder, second-order tets)",
     "lionhead": "Fig. 14 (count not given)",
     "nefertiti": "Fig. 14 (count not given)",
 }
@@ -311,16 +316,19 @@ def _fixed_limits():
         pass  # hard limit below 8 MiB: keep it (layout may then differ from other machines)
 
 
-def gmsh_volume(geo_text, setnumbers, surface=None):
+def gmsh_volume(geo_text, setnumbers, surface=None, order=1):
     """gmsh -3 on a .geo script (after merging the triangle surface (V, F), if given); returns the
-    (X, T) of its tets. Runs in the fixed sandbox (see above)."""
-    return gmsh_mesh(3, geo_text, setnumbers, surface)
+    (X, T) of its tets (order 2: 10-node tets, gmsh's node order, edge nodes on the geometry). Runs in the fixed
+    sandbox (see above)."""
+    return gmsh_mesh(3, geo_text, setnumbers, surface, order)
 
 
-def gmsh_mesh(dim, geo_text, setnumbers, surface=None):
+def gmsh_mesh(dim, geo_text, setnumbers, surface=None, order=1):
     """gmsh -DIM on a .geo script (after merging the triangle surface (V, F), if given); returns the
     nodes and the tets (dim 3) or triangles (dim 2) of the result. Runs in the fixed sandbox."""
     reader = {3: mk.read_msh22_tets, 2: mk.read_msh22_tris}[dim]
+    if order == 2:
+        reader = {3: lambda path: mk.read_msh22_elements(path, mk.MSH_TET10, 10)}[dim]
     with open(GMSH_SANDBOX + ".lock", "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)
         shutil.rmtree(GMSH_SANDBOX, ignore_errors=True)
@@ -329,6 +337,8 @@ def gmsh_mesh(dim, geo_text, setnumbers, surface=None):
             with open(os.path.join(GMSH_SANDBOX, "model.geo"), "w") as f:
                 f.write(geo_text)
             cmd = [GMSH, "-%d" % dim, "-nt", "1", "-format", "msh22", "-o", "out.msh"]
+            if order != 1:
+                cmd += ["-order", str(order)]
             if _setarch_works():
                 cmd = [SETARCH, "-R"] + cmd
             else:
@@ -412,8 +422,9 @@ def build_box(p):
     return m, {}, {"source": "gmsh OpenCASCADE box 1 x 1 x 2, meshes/geo/box.geo", "h": p["h"]}
 
 
-def build_shell(p):
-    m = mk.TetMesh(*gmsh_volume(read_geo("shell.geo"), {"h": p["h"]}))
+def build_shell(p, order=1):
+    X, T = gmsh_volume(read_geo("shell.geo"), {"h": p["h"]}, order=order)
+    m = mk.TetMesh(X, T) if order == 1 else mk.TetMesh.from_second_order(X, T)
     m.drop_unused_nodes()
     m.orient()
     F, _ = m.boundary_faces()
@@ -421,7 +432,14 @@ def build_shell(p):
     inner = r < 0.75
     m.add_face_set(1, "inner", F[inner])
     m.add_face_set(2, "outer", F[~inner])
-    return m, {}, {"source": "gmsh OpenCASCADE sphere minus sphere, meshes/geo/shell.geo", "h": p["h"]}
+    return m, {}, {"source": "gmsh OpenCASCADE sphere minus sphere, meshes/geo/shell.geo" +
+                   (", gmsh -order 2 (edge nodes on the spheres)" if order == 2 else ""), "h": p["h"]}
+
+
+def build_shell_curved(p):
+    """build_shell's mesh (the same corners) with gmsh's second-order nodes: 10-node tets whose edge nodes on the
+    inner and outer spheres lie on them (isoparametric P2 with -element p2)."""
+    return build_shell(p, order=2)
 
 
 def build_cube(p):
@@ -852,6 +870,18 @@ def build_tube(p):
     return m, {}, {"source": "structured quarter annulus (meshes/tools/build.py)", "n": n}
 
 
+def build_tube_curved(p):
+    """build_tube's tets (the same corners) with a node on every edge at the middle in (r, angle, z): every edge
+    along a circle is an arc of it, so the inner and outer walls are exact to second order (isoparametric P2)."""
+    m, groups, info = build_tube(p)
+    E = np.unique(np.sort(m.T[:, mk.TET10_EDGES].reshape(-1, 2), axis=1), axis=0)
+    P = m.X[E]  # (k, 2, 3)
+    r, t = np.linalg.norm(P[:, :, :2], axis=2).mean(1), np.arctan2(P[:, :, 1], P[:, :, 0]).mean(1)
+    m.set_edge_nodes(E, np.c_[r * np.cos(t), r * np.sin(t), P[:, :, 2].mean(1)])
+    info["source"] += ", edge nodes at the middle in polar coordinates"
+    return m, groups, info
+
+
 def build_tube_hex(p):
     """build_tube's quarter in trilinear hexahedra (n x tube_cells(n) x 1), the same face groups."""
     n = p["n"]
@@ -992,6 +1022,7 @@ BUILDERS = {"box": build_box, "cylinder": build_cylinder, "cube": build_cube, "h
             "hand": build_hand, "camel": build_camel, "cloth": build_cloth, "cook": build_cook, "beam": build_beam,
             "cook_slab": build_cook_slab, "cook_hex": build_cook_hex,
             "tube": build_tube, "tube_hex": build_tube_hex, "shell_hex": build_shell_hex,
+            "tube_curved": build_tube_curved, "shell_curved": build_shell_curved,
             "disk": build_disk,
             "lionhead": build_lionhead, "nefertiti": build_nefertiti, "shell": build_shell}
 
@@ -1035,7 +1066,7 @@ def listing():
                 continue
             cells = CELL_KEY[kind(name, size)]
             par = " ".join("%s=%g" % (k, v) for k, v in p.items() if k != cells) or "source mesh"
-            paper = PAPER[name] if size == paper_size else ("292,476 (Fig. 15)" if size == "fig15" else "")
+            paper = PAPER.get(name, "(not in the paper)") if size == paper_size else ("292,476 (Fig. 15)" if size == "fig15" else "")
             print("%-11s %-8s %-5s %-8s %-22s %s" % (name, size, kind(name, size), p.get(cells, "?"), par, paper))
 
 

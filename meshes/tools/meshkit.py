@@ -26,6 +26,11 @@ import numpy as np
 # gmsh MSH 2.2 element type numbers
 MSH_POINT, MSH_LINE, MSH_TRI, MSH_TET = 15, 1, 2, 4
 MSH_QUAD, MSH_HEX = 3, 5
+MSH_TRI6, MSH_TET10 = 9, 11  # second order: the corners, then one node per edge
+# gmsh's node order: node 4 + k of a 10-node tet on the edge TET10_EDGES[k], node 3 + k of a 6-node triangle on
+# TRI6_EDGES[k]
+TET10_EDGES = np.array([[0, 1], [1, 2], [0, 2], [0, 3], [2, 3], [1, 3]])
+TRI6_EDGES = np.array([[0, 1], [1, 2], [2, 0]])
 
 
 # --------------------------------------------------------------------------------------------------
@@ -256,6 +261,39 @@ class TetMesh:
         self.vertex_sets = []
         self.names = {(3, 1): "body"}
         self.flipped = 0
+        # second order (set_edge_nodes): sorted corner pairs (k,2) and the node on each edge (k,3)
+        self.edges = None
+        self.edge_X = None
+
+    @classmethod
+    def from_second_order(cls, X, T10):
+        """A mesh of 10-node tets in gmsh's node order: the corners as the mesh, the edge nodes kept (curved
+        where the generator placed them on the geometry)."""
+        T10 = np.asarray(T10, dtype=np.int64)
+        m = cls(X, T10[:, :4])
+        E = np.sort(T10[:, TET10_EDGES].reshape(-1, 2), axis=1)
+        mids = T10[:, 4:].reshape(-1)
+        E, first = np.unique(E, axis=0, return_index=True)
+        m.set_edge_nodes(E, np.asarray(X, dtype=float)[mids[first]])
+        return m
+
+    def set_edge_nodes(self, E, XE):
+        """Make the mesh second order: XE[k] is the node on the edge joining corners E[k] (every edge of the tets
+        must have one; written as 10-node tets and 6-node boundary triangles)."""
+        E = np.sort(np.asarray(E, dtype=np.int64).reshape(-1, 2), axis=1)
+        order = np.lexsort((E[:, 1], E[:, 0]))
+        self.edges, self.edge_X = E[order], np.asarray(XE, dtype=float).reshape(-1, 3)[order]
+
+    def edge_node_index(self, pairs):
+        """The edge-node number (into self.edges) of each corner pair (..., 2)."""
+        P = np.sort(np.asarray(pairs, dtype=np.int64), axis=-1)
+        n = len(self.X)
+        keys = self.edges[:, 0] * n + self.edges[:, 1]
+        k = P[..., 0] * n + P[..., 1]
+        at = np.searchsorted(keys, k)
+        if (at >= len(keys)).any() or (keys[np.minimum(at, len(keys) - 1)] != k).any():
+            raise ValueError("an edge of the mesh has no edge node")
+        return at
 
     # -- cleaning -------------------------------------------------------------------------------
     def drop_unused_nodes(self):
@@ -267,6 +305,8 @@ class TetMesh:
         new = np.cumsum(used) - 1
         self.X = self.X[used]
         self.T = new[self.T]
+        if self.edges is not None:
+            self.set_edge_nodes(new[self.edges], self.edge_X)
         return int((~used).sum())
 
     def orient(self, rel_tol=1e-12):
@@ -325,9 +365,19 @@ class TetMesh:
         if (signed_volumes(self.X, self.T) <= 0).any():
             raise ValueError("write_msh22: orient() the mesh first (non-positive tets)")
         blocks = [(MSH_POINT, tag, nodes.reshape(-1, 1)) for tag, nodes in self.vertex_sets]
-        blocks += [(MSH_TRI, tag, tris) for tag, tris in self.face_sets]
-        blocks.append((MSH_TET, self.cell_tag, self.T))
-        write_msh22(path, self.names, self.X, blocks)
+        if self.edges is None:
+            blocks += [(MSH_TRI, tag, tris) for tag, tris in self.face_sets]
+            blocks.append((MSH_TET, self.cell_tag, self.T))
+            write_msh22(path, self.names, self.X, blocks)
+            return
+        # second order: the edge nodes numbered after the corners, so PETSc's vertices are the corners in order
+        n = len(self.X)
+        for tag, tris in self.face_sets:
+            mids = n + self.edge_node_index(tris[:, TRI6_EDGES])
+            blocks.append((MSH_TRI6, tag, np.c_[tris, mids]))
+        mids = n + self.edge_node_index(self.T[:, TET10_EDGES])
+        blocks.append((MSH_TET10, self.cell_tag, np.c_[self.T, mids]))
+        write_msh22(path, self.names, np.r_[self.X, self.edge_X], blocks)
 
     def stats(self):
         """Counts and quality numbers, as a dict (printed in the build log and the README)."""
@@ -336,6 +386,7 @@ class TetMesh:
         s = {
             "tets": len(self.T),
             "vertices": len(self.X),
+            "order": 1 if self.edges is None else 2,
             "flipped_on_input": self.flipped,
             "volume": float(vol.sum()),
             "min_tet_volume": float(vol.min()),
@@ -425,6 +476,8 @@ class TriMesh:
         new = np.cumsum(used) - 1
         self.X = self.X[used]
         self.T = new[self.T]
+        if self.edges is not None:
+            self.set_edge_nodes(new[self.edges], self.edge_X)
         return int((~used).sum())
 
     def drop_bad_triangles(self):

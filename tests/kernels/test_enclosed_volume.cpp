@@ -162,40 +162,49 @@ TEST(FaceVolume, ClosedCurvedSurfacesEncloseTheirExactVolume) {
   EXPECT_NEAR(warped, exact, 1e-12);
 }
 
+// The unit sphere as 6-node triangles: each octant split k x k, every corner on the sphere; the edge nodes projected
+// onto it too (curved: the P2 surface) or at the chords' middles (flat). Each triangle, outward (corners 1, 2 and the
+// edges 01, 20 swapped where needed), goes to fn.
+template <class Fn>
+void forEachSphereTriangle(int k, bool curved, Fn fn) {
+  for (int sx = -1; sx <= 1; sx += 2)
+    for (int sy = -1; sy <= 1; sy += 2)
+      for (int sz = -1; sz <= 1; sz += 2) {
+        auto P = [&](double i, double j) {  // grid point (i, j) of the octant's face, projected on the sphere
+          return Eigen::Vector3d(sx * (k - i - j) / k, sy * i / k, sz * j / k).normalized().eval();
+        };
+        for (int i = 0; i < k; ++i)
+          for (int j = 0; i + j < k; ++j)
+            for (int up = 0; up < 2; ++up) {
+              if (up && i + j + 1 >= k) continue;
+              const double down[3][2] = {{1.0 * i, 1.0 * j}, {i + 1.0, 1.0 * j}, {1.0 * i, j + 1.0}};
+              const double upper[3][2] = {{i + 1.0, j + 1.0}, {1.0 * i, j + 1.0}, {i + 1.0, 1.0 * j}};
+              const double(*c)[2] = up ? upper : down;
+              Mat<6, 3> X;
+              for (int n = 0; n < 3; ++n) X.row(n) = P(c[n][0], c[n][1]).transpose();
+              for (int e = 0; e < 3; ++e) {
+                const int f = (e + 1) % 3;
+                X.row(3 + e) = curved ? P((c[e][0] + c[f][0]) / 2, (c[e][1] + c[f][1]) / 2).transpose()
+                                      : ((X.row(e) + X.row(f)) / 2).eval();
+              }
+              const Eigen::Vector3d n = (X.row(1) - X.row(0)).cross(X.row(2) - X.row(0)).transpose();
+              if (n.dot(X.row(0).transpose()) < 0) {
+                X.row(1).swap(X.row(2));
+                X.row(3).swap(X.row(5));
+              }
+              fn(X);
+            }
+      }
+}
+
 TEST(FaceVolume, CurvedQuadraticSphereEnclosesTheBallBeyondSecondOrder) {
-  // Each octant of the unit sphere split k x k into triangles with corners on the sphere. Quadratic triangles with
-  // their edge nodes projected onto the sphere too (the P2 surface) enclose 4 pi / 3 at order 3 or more; straight
-  // triangles through the same corners (edge nodes at the middles) at order 2. Every piece carries the face kernel.
+  // The curved 6-node triangles (the P2 surface) enclose 4 pi / 3 at order 3 or more; the flat ones through the same
+  // corners at order 2. Every piece carries the face kernel.
   auto sphereVolume = [](int k, bool curved) {
     double V = 0.0;
-    for (int sx = -1; sx <= 1; sx += 2)
-      for (int sy = -1; sy <= 1; sy += 2)
-        for (int sz = -1; sz <= 1; sz += 2) {
-          auto P = [&](double i, double j) {  // grid point (i, j) of the octant's face, projected on the sphere
-            return Eigen::Vector3d(sx * (k - i - j) / k, sy * i / k, sz * j / k).normalized().eval();
-          };
-          for (int i = 0; i < k; ++i)
-            for (int j = 0; i + j < k; ++j)
-              for (int up = 0; up < 2; ++up) {
-                if (up && i + j + 1 >= k) continue;
-                const double down[3][2] = {{1.0 * i, 1.0 * j}, {i + 1.0, 1.0 * j}, {1.0 * i, j + 1.0}};
-                const double upper[3][2] = {{i + 1.0, j + 1.0}, {1.0 * i, j + 1.0}, {i + 1.0, 1.0 * j}};
-                const double(*c)[2] = up ? upper : down;
-                Mat<6, 3> X;
-                for (int n = 0; n < 3; ++n) X.row(n) = P(c[n][0], c[n][1]).transpose();
-                for (int e = 0; e < 3; ++e) {
-                  const int f = (e + 1) % 3;
-                  X.row(3 + e) = curved ? P((c[e][0] + c[f][0]) / 2, (c[e][1] + c[f][1]) / 2).transpose()
-                                        : ((X.row(e) + X.row(f)) / 2).eval();
-                }
-                const Eigen::Vector3d n = (X.row(1) - X.row(0)).cross(X.row(2) - X.row(0)).transpose();
-                if (n.dot(X.row(0).transpose()) < 0) {  // outward: swap corners 1, 2 (edges 01 and 20 swap)
-                  X.row(1).swap(X.row(2));
-                  X.row(3).swap(X.row(5));
-                }
-                V += kernels::faceVolume<kernels::face::Tri6>(X, Eigen::Vector3d::Zero(), Order::Value).value;
-              }
-        }
+    forEachSphereTriangle(k, curved, [&](const Mat<6, 3> &X) {
+      V += kernels::faceVolume<kernels::face::Tri6>(X, Eigen::Vector3d::Zero(), Order::Value).value;
+    });
     return V;
   };
   const double ball = 4.0 * M_PI / 3.0;
@@ -231,6 +240,33 @@ TEST(FaceAreaMoments, SumToTheAreaVectorAndSplitAsTheConsistentLoad) {
   const Mat<4, 3> W = randomFace<4>(rng);
   const Eigen::Vector3d diag = 0.5 * (W.row(2) - W.row(0)).cross(W.row(3) - W.row(1)).transpose();
   EXPECT_LT((kernels::faceAreaMoments<kernels::face::Quad4>(W).colwise().sum().transpose() - diag).norm(), 1e-14);
+}
+
+TEST(FaceAreaShares, FlatFacesSplitTheirAreaAsTheConsistentLoadAndCurvedOnesConverge) {
+  Rng rng(seedOf("face area shares"));
+  const Mat<3, 3> X = randomFace<3>(rng);
+  const double area = 0.5 * (X.row(1) - X.row(0)).cross(X.row(2) - X.row(0)).norm();
+  const Vec<3> s3 = kernels::faceAreaShares<kernels::face::Tri3>(X);
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(s3[i], area / 3, 1e-14);
+  Mat<6, 3> X6;
+  X6.topRows<3>() = X;
+  for (int e = 0; e < 3; ++e) X6.row(3 + e) = (X.row(e) + X.row((e + 1) % 3)) / 2;
+  const Vec<6> s6 = kernels::faceAreaShares<kernels::face::Tri6>(X6);
+  for (int i = 0; i < 3; ++i) EXPECT_LT(std::abs(s6[i]), 1e-14);
+  for (int i = 3; i < 6; ++i) EXPECT_NEAR(s6[i], area / 3, 1e-14);
+  // The unit sphere's area 4 pi: the curved 6-node triangles converge at order > 2.8, the flat ones at order 2.
+  auto sphereArea = [](int k, bool curved) {
+    double A = 0.0;
+    forEachSphereTriangle(k, curved,
+                          [&](const Mat<6, 3> &X) { A += kernels::faceAreaShares<kernels::face::Tri6>(X).sum(); });
+    return A;
+  };
+  const double sphere = 4.0 * M_PI;
+  const double curved4 = std::abs(sphereArea(4, true) - sphere), curved8 = std::abs(sphereArea(8, true) - sphere);
+  const double flat4 = std::abs(sphereArea(4, false) - sphere), flat8 = std::abs(sphereArea(8, false) - sphere);
+  EXPECT_GT(std::log2(curved4 / curved8), 2.8);
+  EXPECT_NEAR(std::log2(flat4 / flat8), 2.0, 0.2);
+  EXPECT_LT(curved8, flat8 / 10);
 }
 
 }  // namespace

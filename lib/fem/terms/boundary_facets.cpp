@@ -1,6 +1,9 @@
 #include "fem/terms/boundary_facets.hpp"
 
+#include "kernels/element_rules.hpp"
+
 #include <algorithm>
+#include <map>
 #include <utility>
 
 namespace aries::fem {
@@ -70,6 +73,56 @@ PetscErrorCode orientBoundaryFacets(const Mesh &mesh, const VertexTable &verts, 
     }
     oriented->push_back(f);
   }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode quadraticGroupFaces(const Mesh &mesh, const VertexTable &verts, const std::vector<PetscInt> &facets,
+                                   const std::string &option, std::vector<std::array<PetscInt, 6>> *faces) {
+  using Key = std::array<PetscInt, 3>;
+  PetscFunctionBeginUser;
+  faces->clear();
+  std::map<Key, int> middles;  // the group's middle triangles (3 edge nodes), sorted vertices -> times matched
+  for (PetscInt f : facets) {
+    std::vector<PetscInt> vs;
+    PetscCall(closureVertices(mesh, f, &vs));
+    if (vs.size() == 3 && mesh.edgeNode[vs[0]] && mesh.edgeNode[vs[1]] && mesh.edgeNode[vs[2]]) {
+      Key k = {vs[0], vs[1], vs[2]};
+      std::sort(k.begin(), k.end());
+      middles[k] = 0;
+    }
+  }
+  namespace t10 = kernels::tet10;
+  auto edgeOf = [](int a, int b) {
+    for (int e = 0; e < 6; ++e)
+      if ((t10::kEdges[e][0] == a && t10::kEdges[e][1] == b) || (t10::kEdges[e][0] == b && t10::kEdges[e][1] == a))
+        return 4 + e;
+    return -1;
+  };
+  for (const auto &nodes : mesh.elementNodes)
+    for (int opposite = 0; opposite < 4; ++opposite) {
+      int c[3], n = 0;
+      for (int k = 0; k < 4; ++k)
+        if (k != opposite) c[n++] = k;
+      const Key key = {nodes[edgeOf(c[0], c[1])], nodes[edgeOf(c[1], c[2])], nodes[edgeOf(c[2], c[0])]};
+      Key sorted = key;
+      std::sort(sorted.begin(), sorted.end());
+      auto it = middles.find(sorted);
+      if (it == middles.end()) continue;
+      ++it->second;
+      std::array<PetscInt, 6> face = {nodes[c[0]], nodes[c[1]], nodes[c[2]], key[0], key[1], key[2]};
+      const Eigen::Vector3d &X0 = verts[face[0]].rest;
+      const Eigen::Vector3d normal = (verts[face[1]].rest - X0).cross(verts[face[2]].rest - X0);
+      if (normal.dot(verts[nodes[opposite]].rest - X0) > 0.0) {
+        std::swap(face[1], face[2]);  // corners 1, 2 swap; the edges 01 and 20 swap with them
+        std::swap(face[3], face[5]);
+      }
+      faces->push_back(face);
+    }
+  for (const auto &kv : middles)
+    if (kv.second != 1)
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+              "option %s: the group has a face that is %s of the quadratic elements (a load acts on boundary faces)",
+              option.c_str(), kv.second == 0 ? "no face" : "a face of two");
   PetscFunctionReturn(0);
 }
 

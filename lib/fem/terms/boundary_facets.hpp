@@ -23,6 +23,15 @@ struct OrientedFacet {
 PetscErrorCode orientBoundaryFacets(const Mesh &mesh, const VertexTable &verts, const std::vector<PetscInt> &facets,
                                     const std::string &option, std::vector<OrientedFacet> *oriented);
 
+// The faces of a quadratic tetrahedral mesh (-element p2) that a group covers: the refined DM's boundary triangles
+// come 4 to a face, and each face of an element whose 3 edge nodes make one of the group's middle triangles (among
+// `facets`, this rank's) is a face of the group: 6 local vertices in kernels::face::Tri6's order (corners, then the
+// nodes on edges 01, 12, 20), outward (the corners' plane's normal away from the element's fourth corner; the face
+// itself may be curved). A middle triangle that is no element's face, or two elements', is a one-line error naming
+// `option`. Not collective.
+PetscErrorCode quadraticGroupFaces(const Mesh &mesh, const VertexTable &verts, const std::vector<PetscInt> &facets,
+                                   const std::string &option, std::vector<std::array<PetscInt, 6>> *faces);
+
 // The facet's outward normal times its rest area (length for an edge), by the rule above for a quadrangle: the area
 // vector of the flat facet, or of a warped quadrangle's bilinear patch.
 Eigen::Vector3d restAreaVector(const VertexTable &verts, const OrientedFacet &f);

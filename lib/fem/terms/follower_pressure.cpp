@@ -2,7 +2,6 @@
 
 #include "core/parallel.hpp"
 #include "fem/terms/boundary_facets.hpp"
-#include "kernels/element_rules.hpp"
 #include "kernels/psd_projection.hpp"
 
 #include <petscdmplex.h>
@@ -10,7 +9,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 
 namespace aries::fem {
 
@@ -58,62 +56,6 @@ auto FollowerPressure<Face>::restPositions(const PressureFace &f) const -> kerne
 }
 
 template <class Face>
-PetscErrorCode FollowerPressure<Face>::quadraticFaces(const Mesh &mesh, const std::vector<PetscInt> &owned,
-                                                      const std::string &option, int set) {
-  PetscFunctionBeginUser;
-  if constexpr (kNodes == 6) {
-    using Key = std::array<PetscInt, 3>;
-    std::map<Key, int> middles;  // the set's middle triangles (3 edge nodes), sorted vertices -> times matched
-    for (PetscInt f : owned) {
-      std::vector<PetscInt> vs;
-      PetscCall(closureVertices(mesh, f, &vs));
-      if (vs.size() == 3 && mesh.edgeNode[vs[0]] && mesh.edgeNode[vs[1]] && mesh.edgeNode[vs[2]]) {
-        Key k = {vs[0], vs[1], vs[2]};
-        std::sort(k.begin(), k.end());
-        middles[k] = 0;
-      }
-    }
-    namespace t10 = kernels::tet10;
-    auto edgeOf = [](int a, int b) {
-      for (int e = 0; e < 6; ++e)
-        if ((t10::kEdges[e][0] == a && t10::kEdges[e][1] == b) || (t10::kEdges[e][0] == b && t10::kEdges[e][1] == a))
-          return 4 + e;
-      return -1;
-    };
-    for (const auto &nodes : mesh.elementNodes)
-      for (int opposite = 0; opposite < 4; ++opposite) {
-        int c[3], n = 0;
-        for (int k = 0; k < 4; ++k)
-          if (k != opposite) c[n++] = k;
-        Key key = {nodes[edgeOf(c[0], c[1])], nodes[edgeOf(c[1], c[2])], nodes[edgeOf(c[2], c[0])]};
-        Key sorted = key;
-        std::sort(sorted.begin(), sorted.end());
-        auto it = middles.find(sorted);
-        if (it == middles.end()) continue;
-        ++it->second;
-        PressureFace face;
-        face.set = set;
-        face.vertex = {nodes[c[0]], nodes[c[1]], nodes[c[2]], key[0], key[1], key[2]};
-        // Outward: the straight rest face's normal away from the element's fourth corner.
-        const Eigen::Vector3d &X0 = verts_[face.vertex[0]].rest;
-        const Eigen::Vector3d normal = (verts_[face.vertex[1]].rest - X0).cross(verts_[face.vertex[2]].rest - X0);
-        if (normal.dot(verts_[nodes[opposite]].rest - X0) > 0.0) {
-          std::swap(face.vertex[1], face.vertex[2]);  // corners 1, 2 swap; the edges 01 and 20 swap with them
-          std::swap(face.vertex[3], face.vertex[5]);
-        }
-        faces_.push_back(face);
-      }
-    for (const auto &kv : middles)
-      if (kv.second != 1)
-        SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
-                "option %s: the group has a face that is %s of the quadratic elements (a pressure acts on boundary "
-                "faces)",
-                option.c_str(), kv.second == 0 ? "no face" : "a face of two");
-  }
-  PetscFunctionReturn(0);
-}
-
-template <class Face>
 PetscErrorCode FollowerPressure<Face>::setup(const Mesh &mesh, const std::vector<SurfaceLoad> &loads) {
   MPI_Comm comm;
   PetscInt pStart, pEnd;
@@ -142,7 +84,9 @@ PetscErrorCode FollowerPressure<Face>::setup(const Mesh &mesh, const std::vector
     PetscCall(orientBoundaryFacets(mesh, verts_, owned, option, &facets));
     const size_t first = faces_.size();
     if constexpr (kNodes == 6) {
-      PetscCall(quadraticFaces(mesh, owned, option, set));
+      std::vector<std::array<PetscInt, 6>> quadratic;
+      PetscCall(quadraticGroupFaces(mesh, verts_, owned, option, &quadratic));
+      for (const auto &q : quadratic) faces_.push_back(PressureFace{q, set});
     } else {
       for (const OrientedFacet &f : facets) {
         if (f.count != kNodes)

@@ -46,10 +46,6 @@ class FollowerPressure final : public Term {
     std::array<PetscInt, kNodes> vertex;  // local vertex indices, Face's node order, outward
     int set;                         // index of its load
   };
-  // The faces of a P2 mesh's set: the refined DM's boundary triangles come 4 to a face; each face of an element whose
-  // 3 edge nodes make one of the set's middle triangles is a face of the set.
-  PetscErrorCode quadraticFaces(const Mesh &mesh, const std::vector<PetscInt> &owned, const std::string &option,
-                                int set);
   kernels::Mat<kNodes, 3> positions(const PressureFace &f, const PetscScalar *x) const;
   kernels::Mat<kNodes, 3> restPositions(const PressureFace &f) const;
   const VertexTable &verts_;

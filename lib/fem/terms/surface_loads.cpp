@@ -13,12 +13,9 @@ namespace {
 // The rest area (length, for an edge) each vertex of a facet carries: area / 3 on a triangle, length / 2 on an edge;
 // on a bilinear quadrangle (a hexahedron's face, vertices in cyclic closure order) the integral of each vertex's
 // shape function over the possibly warped face, 2x2 Gauss points (exact for a parallelogram: area / 4 each).
-// On a quadratic tetrahedral mesh (`edgeNode` per facet vertex: a node at an edge's middle) the facet is one of the 4
-// equal triangles a straight quadratic face is split into (fem/mesh_quadratic.cpp), and the face's consistent load
-// int N_i dA is 0 at its corners and A / 3 at its edge nodes: each edge node lies on 3 of the 4 triangles, so every
-// triangle gives its corner 0 and each of its edge nodes 4/9 of its own area. Returns the facet's rest area.
-double facetVertexAreas(const std::vector<Eigen::Vector3d> &X, const std::vector<char> &edgeNode,
-                        std::vector<double> *sharesOut) {
+// (A quadratic tetrahedral mesh's faces are 6-node triangles, possibly curved: SurfaceLoads::setup integrates them
+// whole.) Returns the facet's rest area.
+double facetVertexAreas(const std::vector<Eigen::Vector3d> &X, std::vector<double> *sharesOut) {
   const size_t n = X.size();
   std::vector<double> &share = *sharesOut;
   share.assign(n, 0.0);
@@ -29,8 +26,6 @@ double facetVertexAreas(const std::vector<Eigen::Vector3d> &X, const std::vector
   } else if (n == 3) {
     area = 0.5 * (X[1] - X[0]).cross(X[2] - X[0]).norm();
     share.assign(3, area / 3.0);
-    if (!edgeNode.empty())
-      for (int v = 0; v < 3; ++v) share[v] = edgeNode[v] ? 4.0 * area / 9.0 : 0.0;
   } else if (n == 4) {
     const double g = 1.0 / std::sqrt(3.0), corner[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
     for (int q = 0; q < 4; ++q) {
@@ -78,30 +73,46 @@ PetscErrorCode SurfaceLoads<R>::setup(const Mesh &mesh, const std::vector<Surfac
     if (pressure) PetscCall(orientBoundaryFacets(mesh, verts_, facets, option, &oriented));
     // The vertices of each owned facet and the rest area each of them carries (integral of its shape function); for
     // a pressure the area vector each carries, int N_v n dA.
-    std::vector<std::vector<PetscInt>> facetVertices(facets.size());
-    std::vector<std::vector<double>> shares(facets.size());
-    std::vector<std::vector<Eigen::Vector3d>> moments(facets.size());
+    std::vector<std::vector<PetscInt>> facetVertices;
+    std::vector<std::vector<double>> shares;
+    std::vector<std::vector<Eigen::Vector3d>> moments;
     double local = 0.0, total = 0.0;
+    if (mesh.quadratic) {  // whole 6-node faces (curved where the mesh's edge nodes are): the refined DM's 4 per face
+      std::vector<std::array<PetscInt, 6>> faces;
+      PetscCall(quadraticGroupFaces(mesh, verts_, facets, option, &faces));
+      for (const auto &f : faces) {
+        kernels::Mat<6, 3> X;
+        for (int v = 0; v < 6; ++v) X.row(v) = verts_[f[v]].rest.transpose();
+        const kernels::Vec<6> a = kernels::faceAreaShares<kernels::face::Tri6>(X);
+        const kernels::Mat<6, 3> m = kernels::faceAreaMoments<kernels::face::Tri6>(X);
+        facetVertices.emplace_back(f.begin(), f.end());
+        shares.emplace_back(a.data(), a.data() + 6);
+        moments.emplace_back();
+        for (int v = 0; v < 6; ++v) moments.back().push_back(m.row(v).transpose());
+        local += a.sum();
+      }
+      facets.clear();  // done
+    }
+    const size_t first = facetVertices.size();
+    facetVertices.resize(first + facets.size());
+    shares.resize(first + facets.size());
+    moments.resize(first + facets.size());
     for (size_t k = 0; k < facets.size(); ++k) {
-      std::vector<PetscInt> &vs = facetVertices[k];
+      std::vector<PetscInt> &vs = facetVertices[first + k];
       if (pressure) vs.assign(oriented[k].vertex.begin(), oriented[k].vertex.begin() + oriented[k].count);
       else PetscCall(closureVertices(mesh, facets[k], &vs));
       std::vector<Eigen::Vector3d> X;
-      std::vector<char> edgeNode;
-      for (PetscInt v : vs) {
-        X.push_back(verts_[v].rest);
-        if (mesh.quadratic) edgeNode.push_back(mesh.edgeNode[v]);
-      }
-      local += facetVertexAreas(X, edgeNode, &shares[k]);
+      for (PetscInt v : vs) X.push_back(verts_[v].rest);
+      local += facetVertexAreas(X, &shares[first + k]);
       if (!pressure) continue;
       if (vs.size() == 4) {  // a possibly warped bilinear quadrangle: its normal varies over it
         kernels::Mat<4, 3> Xq;
         for (int v = 0; v < 4; ++v) Xq.row(v) = X[v].transpose();
         const kernels::Mat<4, 3> m = kernels::faceAreaMoments<kernels::face::Quad4>(Xq);
-        for (int v = 0; v < 4; ++v) moments[k].push_back(m.row(v).transpose());
+        for (int v = 0; v < 4; ++v) moments[first + k].push_back(m.row(v).transpose());
       } else {  // flat: its unit normal times each vertex's share of the area
         const Eigen::Vector3d n = restAreaVector(verts_, oriented[k]).normalized();
-        for (double a : shares[k]) moments[k].push_back(a * n);
+        for (double a : shares[first + k]) moments[first + k].push_back(a * n);
       }
     }
     PetscCallMPI(MPI_Allreduce(&local, &total, 1, MPI_DOUBLE, MPI_SUM, comm));
