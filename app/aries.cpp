@@ -4,6 +4,7 @@
 // 2 internal error, 3 the simulation failed a step and stopped (-on_failure stop).
 #include "fem/discretization.hpp"
 #include "fem/fem_options.hpp"
+#include "mesh/mesh_options.hpp"
 #include "core/errors.hpp"
 #include "core/parallel.hpp"
 #include "core/options.hpp"

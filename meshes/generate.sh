@@ -89,7 +89,7 @@ generate() {
 # The HDF5 copy of a cached mesh, converted by aries itself (so the file matches the reader); rebuilt when the .msh
 # is newer or the file's format (root attribute aries_mesh_format) is not the one aries reads. Triangle meshes are converted in 3D (the cloth and UV scenes' reading; a planar 2D run, Cook's membrane,
 # reads the .msh).
-H5_FORMAT=aries-mesh-2  # fem/mesh_hdf5.cpp kMeshFormat
+H5_FORMAT=aries-mesh-2  # mesh/mesh_hdf5.cpp kMeshFormat
 h5_format() {
   "$PY" -c 'import h5py,sys; v=h5py.File(sys.argv[1],"r").attrs.get("aries_mesh_format",b""); print(v.decode() if isinstance(v,bytes) else v)' "$1" 2>/dev/null || true
 }

@@ -14,7 +14,7 @@
 #pragma once
 
 #include "fem/cell_fields.hpp"
-#include "fem/mesh.hpp"
+#include "mesh/mesh.hpp"
 
 #include <Eigen/Dense>
 

@@ -3,7 +3,7 @@
 // caricature's surface curvature).
 #include "fem/discretization_impl.hpp"
 
-#include "fem/cell_files.hpp"
+#include "mesh/cell_files.hpp"
 
 namespace aries::fem {
 

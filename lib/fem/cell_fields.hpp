@@ -5,7 +5,7 @@
 #pragma once
 
 #include "energies/material.hpp"
-#include "fem/mesh.hpp"
+#include "mesh/mesh.hpp"
 
 #include <memory>
 #include <vector>

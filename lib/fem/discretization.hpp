@@ -14,7 +14,7 @@
 #include "fem/boundary.hpp"
 #include "fem/discretization_options.hpp"
 #include "fem/material_options.hpp"
-#include "fem/mesh.hpp"
+#include "mesh/mesh.hpp"
 #include "fem/step_state.hpp"
 #include "energies/energy.hpp"
 #include "kernels/psd_projection.hpp"

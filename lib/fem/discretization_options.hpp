@@ -5,7 +5,7 @@
 
 #include "energies/material.hpp"
 #include "fem/boundary.hpp"
-#include "fem/mesh.hpp"
+#include "mesh/mesh.hpp"
 #include "fem/terms/obstacle_contact.hpp"
 
 #include <string>

@@ -5,7 +5,7 @@
 // default CG + GAMG, rtol 1e-10).
 #pragma once
 
-#include "fem/mesh.hpp"
+#include "mesh/mesh.hpp"
 
 #include <functional>
 #include <vector>

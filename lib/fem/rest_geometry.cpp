@@ -116,7 +116,7 @@ PetscErrorCode DiscretizationT<R, C, NV>::setupRestCells(const Mesh &mesh,
   for (PetscInt k = 0; k < nc; ++k) {
     Cell &cell = cells[k];
     PetscInt point = mesh.cStart + k;  // the DM cell whose labels give the region
-    if (mesh.quadratic) {  // the element's nodes, kernels::tet10's order (fem/mesh_quadratic.cpp)
+    if (mesh.quadratic) {  // the element's nodes, kernels::tet10's order (mesh/mesh_quadratic.cpp)
       std::copy(mesh.elementNodes[k].begin(), mesh.elementNodes[k].end(), cell.vertex.begin());
       point = mesh.elementCell[k];
     } else {

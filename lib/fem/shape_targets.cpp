@@ -1,6 +1,6 @@
 #include "fem/shape_targets.hpp"
 
-#include "fem/cell_files.hpp"
+#include "mesh/cell_files.hpp"
 #include "core/options.hpp"
 #include "fem/fem_options.hpp"
 

@@ -4,11 +4,11 @@
 //                            S_t = l1 a a^T + l2 (I - a a^T), reached by the load ramp (-bc_ramp_steps):
 //                            S_t(s) = I + s (S_t - I), s = load parameter. l2 = 0 is the additive iso + fiber
 //                            muscle form of the paper (lambda_i = 0 for i > 1).
-//   -target_file FILE        per-cell keyframes (format in fem/cell_files.hpp), linear in time, held constant
+//   -target_file FILE        per-cell keyframes (format in mesh/cell_files.hpp), linear in time, held constant
 //                            before the first and after the last keyframe.
 #pragma once
 
-#include "fem/mesh.hpp"
+#include "mesh/mesh.hpp"
 
 #include <Eigen/Dense>
 

@@ -3,6 +3,7 @@
 #include "core/options.hpp"
 #include "energies/registry.hpp"
 #include "fem/fem_options.hpp"
+#include "mesh/mesh_options.hpp"
 #include "io/io_options.hpp"
 #include "io/run_output.hpp"
 #include "solver/solver_options.hpp"

@@ -1,5 +1,5 @@
 // `aries -help` and docs/options.md's tables, both rendered from the option declarations of every layer
-// (core/option_decl.hpp; fem/fem_options.hpp, solver/solver_options.hpp, io/io_options.hpp), the energy registry
+// (core/option_decl.hpp; mesh/mesh_options.hpp, fem/fem_options.hpp, solver/solver_options.hpp, io/io_options.hpp), the energy registry
 // (energies/registry.hpp: names, shapes, their own parameters) and the output fields (io/run_output.hpp).
 // aries-options-doc writes the tables into docs/options.md between <!-- options:KEY --> markers, and ctest
 // docs.options checks that the file in git is what it writes: a default in the docs cannot differ from the code's.

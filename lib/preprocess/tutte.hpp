@@ -4,7 +4,7 @@
 // no flipped triangle), solved in parallel with PETSc KSP (options prefix tutte_, default CG + GAMG, rtol 1e-10).
 #pragma once
 
-#include "fem/mesh.hpp"
+#include "mesh/mesh.hpp"
 
 namespace aries::fem {
 

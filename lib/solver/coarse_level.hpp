@@ -4,7 +4,7 @@
 #pragma once
 
 #include "fem/discretization.hpp"
-#include "fem/mesh_transfer.hpp"
+#include "mesh/mesh_transfer.hpp"
 #include "solver/simulation.hpp"
 
 #include <memory>

@@ -1,5 +1,5 @@
 // Nested iteration (grid sequencing) on meshes that need not be nested (-coarse_mesh, -coarse_steps): a step is first
-// solved on a coarse mesh of the same body, and its solution, interpolated (fem/mesh_transfer.hpp), starts the solve
+// solved on a coarse mesh of the same body, and its solution, interpolated (mesh/mesh_transfer.hpp), starts the solve
 // on the finer mesh.
 //
 // Why: from a degenerate start (inside out, scrambled, collapsed) Newton's work is in fronts and unwinding that move

@@ -3,7 +3,7 @@
 // (x, y plane) the tangent x1 - x0 turned clockwise, (t_y, -t_x). Surface loads and pressures both start from these.
 #pragma once
 
-#include "fem/mesh.hpp"
+#include "mesh/mesh.hpp"
 #include "fem/vertex_layout.hpp"
 
 #include <array>

@@ -12,7 +12,7 @@
 #pragma once
 
 #include "fem/discretization_options.hpp"
-#include "fem/mesh.hpp"
+#include "mesh/mesh.hpp"
 #include "fem/terms/term.hpp"
 #include "fem/vertex_layout.hpp"
 #include "kernels/enclosed_volume.hpp"

@@ -3,7 +3,7 @@
 // -contact_dhat, with stiffness -contact_stiffness.
 #pragma once
 
-#include "fem/mesh.hpp"
+#include "mesh/mesh.hpp"
 #include "fem/terms/term.hpp"
 #include "fem/vertex_layout.hpp"
 #include "kernels/obstacle_barrier.hpp"

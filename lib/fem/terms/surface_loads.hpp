@@ -9,7 +9,7 @@
 #pragma once
 
 #include "fem/discretization_options.hpp"
-#include "fem/mesh.hpp"
+#include "mesh/mesh.hpp"
 #include "fem/terms/term.hpp"
 #include "fem/vertex_layout.hpp"
 

@@ -4,11 +4,11 @@
 // labels, output, random starts) serves the edge nodes as it serves the corners. The elements stay the cells as read:
 // each lists its 10 nodes in kernels::tet10's order. Natural ids: an edge node is numbered after the vertices by its
 // edge's number in the serial mesh, read on rank 0 for any number of ranks, so they do not depend on the partition.
-#include "fem/mesh_loading.hpp"
+#include "mesh/mesh_loading.hpp"
 
 #include "core/errors.hpp"
 #include "core/options.hpp"
-#include "fem/fem_options.hpp"
+#include "mesh/mesh_options.hpp"
 #include "kernels/element_rules.hpp"
 
 #include <petscdmplextransform.h>

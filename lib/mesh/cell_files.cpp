@@ -1,4 +1,4 @@
-#include "fem/cell_files.hpp"
+#include "mesh/cell_files.hpp"
 
 #include "core/errors.hpp"
 #include "core/options.hpp"

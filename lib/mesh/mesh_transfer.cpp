@@ -1,4 +1,4 @@
-#include "fem/mesh_transfer.hpp"
+#include "mesh/mesh_transfer.hpp"
 
 #include "core/errors.hpp"
 

@@ -1,6 +1,6 @@
 // Mesh loading: a gmsh file read on rank 0 through DMPlex (-dm_plex_filename), partitioned with METIS (default,
 // through PETSc's shell partitioner) or PT-Scotch (-partitioner ptscotch), then distributed; or the same mesh
-// converted once to an HDF5 mesh (-mesh_convert, fem/mesh_hdf5.cpp) and read by all ranks in parallel. Keeps the natural
+// converted once to an HDF5 mesh (-mesh_convert, mesh/mesh_hdf5.cpp) and read by all ranks in parallel. Keeps the natural
 // (serial, gmsh-order) number of every local vertex and cell, which makes random initial states, per-cell input
 // files and the output independent of the number of ranks. Surface meshes (cloth, UV) are distributed with one layer
 // of overlap cells so that every owned interior edge has both of its triangles locally (bending hinges); those
@@ -74,7 +74,7 @@ PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh, const std::string &file = {},
 
 // -mesh_convert OUT.h5: reads the gmsh mesh -dm_plex_filename (with the options that shape its reading:
 // -dm_plex_gmsh_spacedim, -dm_plex_gmsh_use_regions) and writes its cells, coordinates and every label as arrays in the
-// natural numbering (fem/mesh_hdf5.cpp), with the physical names as root attributes aries_*. Collective.
+// natural numbering (mesh/mesh_hdf5.cpp), with the physical names as root attributes aries_*. Collective.
 PetscErrorCode convertMesh(MPI_Comm comm, const std::string &out);
 
 // The vertices (local point numbers) of a gmsh physical group (closure taken). A name selects the label of its

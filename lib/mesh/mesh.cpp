@@ -1,11 +1,11 @@
-#include "fem/mesh.hpp"
+#include "mesh/mesh.hpp"
 
-#include "fem/gmsh_check.hpp"
+#include "mesh/gmsh_check.hpp"
 #include "core/errors.hpp"
 #include "core/options.hpp"
-#include "fem/fem_options.hpp"
+#include "mesh/mesh_options.hpp"
 
-#include "fem/mesh_loading.hpp"
+#include "mesh/mesh_loading.hpp"
 
 #include <petscsf.h>
 

@@ -1,9 +1,9 @@
-// The pieces of mesh loading (fem/mesh.hpp) shared by its files: the gmsh reader (mesh.cpp), the HDF5 reader and
+// The pieces of mesh loading (mesh/mesh.hpp) shared by its files: the gmsh reader (mesh.cpp), the HDF5 reader and
 // converter (mesh_hdf5.cpp) and the partitioners (mesh_partition.cpp). Internal to lib/fem.
 #pragma once
 
-#include "fem/gmsh_check.hpp"
-#include "fem/mesh.hpp"
+#include "mesh/gmsh_check.hpp"
+#include "mesh/mesh.hpp"
 
 #include <map>
 #include <string>
@@ -25,7 +25,7 @@ PetscErrorCode parsePhysicalNames(MPI_Comm comm, std::string blob, std::map<std:
 PetscErrorCode readGmshMesh(MPI_Comm comm, Mesh *mesh, DM *serial, std::vector<PetscInt> *natural, bool mayDeferFaces,
                             bool *deferred, std::vector<long long> *facetRows,
                             std::vector<GmshFacets::EdgeNode> *edgeNodes = nullptr);
-// PETSc's gmsh reader on rank 0 (fem/mesh_facets.cpp): a 3D mesh whose tagged faces `facets` holds (and PETSc's
+// PETSc's gmsh reader on rank 0 (mesh/mesh_facets.cpp): a 3D mesh whose tagged faces `facets` holds (and PETSc's
 // default gmsh labels) as cells and vertices only, when mayDeferFaces (*deferred; facetRows: rank 0's rows of its tagged
 // faces); any other mesh with its faces and edges. Collective.
 PetscErrorCode readGmshSerial(MPI_Comm comm, const Mesh &mesh, const GmshFacets &facets, bool mayDeferFaces,
@@ -58,7 +58,7 @@ PetscErrorCode setRcbPartition(DM dm, PetscPartitioner part);
 // of the serial mesh `loaded` (on rank 0) after its vertices in `natural`; numEdgesGlobal is their count. Collective.
 PetscErrorCode chooseElement(MPI_Comm comm, DM loaded, bool hdf5, Mesh *mesh, std::vector<PetscInt> *natural,
                              PetscInt *numEdgesGlobal);
-// The distributed tetrahedral mesh refined once into the quadratic mesh's DM (fem/mesh.hpp: quadratic): its vertices
+// The distributed tetrahedral mesh refined once into the quadratic mesh's DM (mesh/mesh.hpp: quadratic): its vertices
 // are the P2 nodes with natural ids, its elements the cells as read. pointNatural: the natural id of every point of
 // mesh->dm (cells, vertices and edges). Collective.
 // Rank 0: the position of every edge's node of the serial mesh `loaded` from a second-order file's edge nodes (3

@@ -1,5 +1,5 @@
 // Parallel mesh input: a gmsh mesh converted once (-mesh_convert) to aries' own HDF5 mesh format, read by every rank in
-// parallel (fem/mesh.hpp). PETSc 3.18's DMPlexTopologyLoad reads the whole topology on rank 0 ("force serial load"),
+// parallel (mesh/mesh.hpp). PETSc 3.18's DMPlexTopologyLoad reads the whole topology on rank 0 ("force serial load"),
 // so the file holds plain arrays in the natural (gmsh) numbering that each rank reads a block of:
 //   /aries/cells      numCells x corners    vertex ids of each cell, in the serial mesh's closure order
 //   /aries/vertices   numVertices x spaceDim coordinates
@@ -10,13 +10,13 @@
 //                                           vertex ids (sorted, -1 padded)
 // Each rank builds its share of the mesh from its block of cells (DMPlexCreateFromCellListParallelPetsc), and the
 // label rows travel to the rank holding their cell, so every copy of a shared face, edge or vertex is labelled.
-#include "fem/mesh_loading.hpp"
+#include "mesh/mesh_loading.hpp"
 
 #include "core/errors.hpp"
 #include "core/h5_attributes.hpp"
 #include "core/h5_blocks.hpp"
 #include "core/options.hpp"
-#include "fem/fem_options.hpp"
+#include "mesh/mesh_options.hpp"
 
 #include <hdf5.h>
 #include <petscsf.h>

@@ -16,7 +16,7 @@
 #pragma once
 
 #include "core/parallel.hpp"
-#include "fem/mesh.hpp"
+#include "mesh/mesh.hpp"
 
 #include <array>
 #include <string>

@@ -24,7 +24,7 @@ struct GmshFacts {
 // its default options ("Face Sets" for elements one dimension below the cells, the first physical tag as the value; it
 // labels no lines in 3D), with their corners in PETSc's serial vertex numbering (the nodes in file order, counting
 // those that are a corner of some element). A mesh read without its faces and edges can be labelled from them after it
-// is distributed and interpolated in parallel (fem/mesh.cpp). Read on rank 0 only.
+// is distributed and interpolated in parallel (mesh/mesh.cpp). Read on rank 0 only.
 struct GmshFacets {
   struct Facet {
     int dim = 0, tag = 0, numCorners = 0;

@@ -1,4 +1,4 @@
-#include "fem/gmsh_check.hpp"
+#include "mesh/gmsh_check.hpp"
 
 #include "core/errors.hpp"
 

@@ -1,5 +1,5 @@
-// Partitions handed to PETSc's shell partitioner (fem/mesh_loading.hpp).
-#include "fem/mesh_loading.hpp"
+// Partitions handed to PETSc's shell partitioner (mesh/mesh_loading.hpp).
+#include "mesh/mesh_loading.hpp"
 
 #include <metis.h>
 
@@ -75,7 +75,7 @@ PetscErrorCode setMetisPartition(DM dm, PetscPartitioner part) {
   if (depth > 1) {
     PetscCall(DMPlexCreatePartitionerGraph(dm, 0, &nv, &offsets, &adjacency, &globalNumbering));
   } else {
-    // No faces (fem/mesh_facets.cpp): METIS's dual graph from the corners, cells sharing a face's number of corners
+    // No faces (mesh/mesh_facets.cpp): METIS's dual graph from the corners, cells sharing a face's number of corners
     // being face neighbours (PETSc's graph of a mesh without faces compares every pair of cells around a vertex).
     PetscCall(cornerDualGraph(dm, &nv, &dualOffsets, &dualAdjacency));
   }
