@@ -415,7 +415,7 @@ def inflation():
     about the radius, so the state stays spherically symmetric), gamma = 5e3, at p = 3000 (40%). Reference: the
     spherically symmetric equilibrium of the same energy (the radial ODE, bench/radial_reference.py: shooting with
     DOP853 at rtol 1e-12, the outer traction brought to 1e-10 p; it reproduces Lame's u_r(a) to 5e-8 at small strain).
-    Errors relative to the reference's u_r(a), as above; P2 (straight and curved) on the shells of h = 0.3, 0.2, 0.1."""
+    Errors relative to the reference's u_r(a), as above; P2 on the shells of h = 0.3, 0.2, 0.1."""
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
     from radial_reference import RadialInflation
     E, nu, a, b = 1e4, 0.3, 0.5, 1.0
@@ -423,10 +423,11 @@ def inflation():
     for material, p, gamma in (("iarap", 2800.0, 0.0), ("fiber (radial)", 3000.0, 5e3)):
         ref = RadialInflation(a, b, p, E, nu, gamma)
         ur_ref = ref.displacement
-        for label, name, sizes, extra in SPHERE_ELEMENTS:
+        # (P2 curved: in lame_elements; its large-strain rows are not part of this study's run yet)
+        for label, name, sizes, extra in [e for e in SPHERE_ELEMENTS if e[0] != "P2 curved"]:
             hs, errs, vmaxs, ts = [], [], [], []
             # P2 from h = 0.3 (its h = 0.07 run would take longer than the rest of the study together)
-            for size, h in ([("coarse", 0.3)] + sizes[:2] if label.startswith("P2") else sizes[:3]):
+            for size, h in ([("coarse", 0.3)] + sizes[:2] if label == "P2" else sizes[:3]):
                 energy = ["-energy", "iarap"] if gamma == 0 else [
                     "-energy", "fiber", "-gamma", str(gamma), "-fiber_file", radial_fiber_file(name, size)]
                 rest, x, st, wall = run("inflate_%s_%s_%s" % (material.split()[0], name, size) + ("_p2" if extra else ""),
@@ -837,8 +838,8 @@ def write_report(sections, seconds, made_by):
            "time: docs/results.md, section 7 (`bench/run`)."
            % (made_by, commit, datetime.date.today().isoformat(), ARGS.ranks, seconds, os.uname().nodename), ""]
     doc += ["Patch tests (homogeneous deformations imposed on the whole boundary with `-bc_clamp_<set>_affine`, for every "
-            "energy on every element shape it supports) run in ctest: `e2e.patch_tests` (ctest/e2e.py, "
-            "case_patch_tests), on 1 and 2 ranks. Supports on some components (`-bc_clamp_<id>_components`: rollers, "
+            "energy on every element shape it supports) run in ctest: `e2e.patch_tests` (ctest/e2e/supports.py, "
+            "case_patch_tests), on one rank. Supports on some components (`-bc_clamp_<id>_components`: rollers, "
             "symmetry planes) are checked against an exact homogeneous state in `e2e.symmetry_supports`.", ""]
     for title, text, tab in sections:
         doc += ["## " + title, "", " ".join(line.strip() for line in text.strip().splitlines()), "", tab]

@@ -5,4 +5,4 @@ add_test(NAME docs.options COMMAND aries-options-doc --check ${CMAKE_SOURCE_DIR}
 add_test(NAME docs.options_detects
          COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/ctest/options_doc.py --tool $<TARGET_FILE:aries-options-doc>
                  --docs ${CMAKE_SOURCE_DIR}/docs/options.md --work ${CMAKE_BINARY_DIR}/docs_check)
-set_tests_properties(docs.options docs.options_detects PROPERTIES LABELS "lint")
+set_tests_properties(docs.options docs.options_detects PROPERTIES LABELS "lint;quick")

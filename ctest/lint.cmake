@@ -7,8 +7,8 @@ add_test(NAME lint.code_size COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/script
 add_test(NAME lint.code_size_detects
          COMMAND /bin/sh -c "/usr/bin/python3 \"$0\" --max-function 20 \"$1\"; echo \"check_code_size exit status $?\""
                  ${CMAKE_SOURCE_DIR}/scripts/check_code_size.py ${CMAKE_SOURCE_DIR}/lib/solver)
-set_tests_properties(lint.code_size PROPERTIES LABELS "lint")
+set_tests_properties(lint.code_size PROPERTIES LABELS "lint;quick")
 set(ARIES_SIZE_FINDING "lib/solver/[^ ]+\\.[ch]pp:[0-9]+ [~A-Za-z_][~A-Za-z0-9_:<>]*: [0-9]+ lines \\(function limit 20")
 set(ARIES_SIZE_SUMMARY "check_code_size: [0-9]+ functions, [1-9][0-9]* over the limits.check_code_size exit status 1")
-set_tests_properties(lint.code_size_detects PROPERTIES LABELS "lint" FAIL_REGULAR_EXPRESSION "Traceback"
+set_tests_properties(lint.code_size_detects PROPERTIES LABELS "lint;quick" FAIL_REGULAR_EXPRESSION "Traceback"
                      PASS_REGULAR_EXPRESSION "${ARIES_SIZE_FINDING}.*${ARIES_SIZE_SUMMARY}")

@@ -6,7 +6,7 @@ set(ARIES_MATPOINT_CHECKER ${CMAKE_CURRENT_LIST_DIR}/check_matpoint.py)
 function(aries_matpoint_check name)
   add_test(NAME matpoint.${name}
            COMMAND /usr/bin/python3 ${ARIES_MATPOINT_CHECKER} $<TARGET_FILE:aries-matpoint> ${ARGN})
-  set_tests_properties(matpoint.${name} PROPERTIES LABELS "cli" TIMEOUT 60)
+  set_tests_properties(matpoint.${name} PROPERTIES LABELS "cli;quick" TIMEOUT 60)
 endfunction()
 
 # -json: keys, entry counts (9/4/6 and 81/16/36), symmetric Hessian, PSD projection; I4/I6 only where they apply.

@@ -30,6 +30,7 @@ foreach(case ${ARIES_BAD_INPUT_CASES})
     set_tests_properties(robustness.bad_input.${case}.np${ranks} PROPERTIES LABELS "robustness" PROCESSORS ${ranks}
                          TIMEOUT 120 FAIL_REGULAR_EXPRESSION "FAIL:")
   endforeach()
+  set_property(TEST robustness.bad_input.${case}.np1 APPEND PROPERTY LABELS quick)  # a second each
 endforeach()
 
 foreach(case kill_restart failure_policy determinism)

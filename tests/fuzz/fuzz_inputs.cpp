@@ -8,8 +8,8 @@
 // error code, a crash or a sanitizer report fails the test.
 //   aries-fuzz-inputs [-seconds S] [-seed N]     (defaults 20 s, seed 1)
 #include "fem/boundary.hpp"
-#include "fem/cell_files.hpp"
-#include "fem/gmsh_check.hpp"
+#include "mesh/cell_files.hpp"
+#include "mesh/gmsh_check.hpp"
 #include "fem/material_options.hpp"
 #include "core/options.hpp"
 

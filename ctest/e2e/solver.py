@@ -1,0 +1,261 @@
+"""End-to-end cases: the Newton solver (alpha safeguard, Newton variants, failures reported cleanly, no false
+convergence, the multigrid rule) and the run's resource line."""
+import os
+import re
+
+import numpy as np
+
+from harness import csv_rows, fail
+from .common import (ARGS, CONVERGED, mesh, out_base, read_state, run, shape_error, solve_blocks, static_scramble_args,
+                     stats, summary_value)
+
+
+def case_safeguard(linesearch):
+    """The alpha safeguard halves Newton steps that would push an element's alpha below -alpha_min (raised here to
+    4, rest alpha = 64, so that it acts during an inside-out recovery; cells are guarded from 2 alpha_min up), the
+    run still recovers, and no element that was above the threshold ends below it."""
+    tag = "safeguard_%s_np%d" % (linesearch, ARGS.ranks)
+    log, _ = run(["-dm_plex_filename", mesh("cube"), "-energy", "iarap", "-E", "1e4", "-nu", "0", "-initial",
+                  "invert", "-integrator", "beuler", "-dt", "0.2", "-steps", "60", "-alpha_min", "4",
+                  "-snes_linesearch_type", linesearch, "-output", out_base(tag), "-output_every", "60",
+                  "-stats", out_base(tag) + ".csv"], tag=tag)
+    halvings = summary_value(log, "safeguard halvings")
+    err, _ = shape_error(out_base(tag), rigid=True)
+    final_alpha = float(stats(out_base(tag) + ".csv")[-1]["min_alpha"])
+    print("safeguard halvings %d; final min alpha %.3e; distance to rest %.3e L" % (halvings, final_alpha, err))
+    if halvings <= 0:
+        fail("no step was halved by the safeguard")
+    if not err <= 1e-3:
+        fail("not recovered under the safeguard: %.3e L" % err)
+    if not final_alpha >= 4.0:
+        fail("final min alpha %.3e below -alpha_min 4" % final_alpha)
+
+
+def case_kim_aa_fails():
+    """Kim 2019's Psi_AA on the scramble fails at the first step (the paper, Fig. 4: "fails at the very first
+    step"), reported cleanly: exit code 3, exactly one stats row, step 1, with a 'diverged_*' reason, a readable
+    output of the last accepted state, no crash, no hang (CTest timeout). Of the 5 steps asked for, a step 1 that
+    converged would show as a second row. How it fails (test armadillo, default seed, 1 and 2 ranks, when this was
+    written): not by NaN; Newton stalls in step 1 at |r| 2.1e3 (from 3.7e5, energy 1.82e6 -> 1.33e5, 54 updates on 1
+    rank and 62 on 2, the line search down to 6e-13) and ends with diverged_line_search."""
+    tag = "kim_aa_np%d" % ARGS.ranks
+    log, _ = run(["-dm_plex_filename", mesh("armadillo"), "-energy", "kim_aa", "-E", "1e5", "-nu", "0",
+                  "-bc_clamp", "hands_feet", "-initial", "scramble", "-integrator", "beuler", "-steps", "5",
+                  "-output", out_base(tag), "-stats", out_base(tag) + ".csv"], expect_code=3, tag=tag)
+    rows = stats(out_base(tag) + ".csv")
+    print("stats rows %d (steps %s), reason '%s'" % (len(rows), [r["step"] for r in rows], rows[-1]["reason"]))
+    if not rows[-1]["reason"].startswith("diverged"):
+        fail("expected a diverged_* reason, got " + rows[-1]["reason"])
+    if len(rows) != 1 or rows[0]["step"] != "1":
+        fail("expected the failure at step 1 (one stats row), got the steps %s with the reasons %s"
+             % ([r["step"] for r in rows], [r["reason"] for r in rows]))
+    if "failed" not in log:
+        fail("the console does not say the step failed")
+    if "step 1 failed" not in log:
+        fail("the console does not say that step 1 failed")
+    _, _, x, _ = read_state(out_base(tag))
+    if not np.all(np.isfinite(x)):
+        fail("the written state is not finite")
+
+
+def case_no_false_convergence():
+    """A Newton step from a linear solve that did not converge is not a convergence test pass: the collapsed
+    armadillo (every free vertex on a line) with CG + GAMG without the near-nullspace and GAMG's stale smoother
+    bounds (-pc_gamg_use_sa_esteig true, PETSc's default that aries turns off) gets DIVERGED_INDEFINITE_PC solves
+    whose short steps used to satisfy the |step| criterion at 0.38 L from rest ("newton_step"). Now the step must
+    end either recovered (<= 1e-3 L) or reported as failed.
+
+    A static step from a collapsed start first relaxes the body without its supports (-static_detached_start), and
+    that phase's failed solves alone would meet the precondition; were it to converge, the supported solve would
+    start at rest and a false convergence in it would go unseen. So the case runs twice, each run with its own
+    precondition and checks: as given (detached phase, then the supported solve), and with -static_detached_start
+    false, the supported Newton solve alone from the collapsed start (one solve in -newton_history). When this was
+    written the detached phase stopped at -snes_max_it (60 updates) and the supported solve ran from the collapsed
+    start in both: 39 of its 40 linear solves failed, diverged_line_search at 0.42 L. Then the same for a truncated
+    trust-region CG direction (truncated_direction_not_converged)."""
+    for tag, extra in (("false_convergence", []),
+                       ("false_convergence_supported", ["-static_detached_start", "false"])):
+        log, code = run(["-dm_plex_filename", mesh("armadillo"), "-energy", "iarap", "-E", "1e5", "-nu", "0",
+                         "-bc_clamp", "hands_feet", "-initial", "collapse_line", "-integrator", "static", "-steps",
+                         "1", "-snes_max_it", "60", "-ksp_type", "cg", "-pc_type", "gamg", "-dm_mat_type", "aij",
+                         "-near_nullspace", "none", "-pc_gamg_use_sa_esteig", "true", "-ksp_converged_reason"]
+                        + extra + ["-output", out_base(tag), "-stats", out_base(tag) + ".csv", "-newton_history",
+                                   out_base(tag) + "_newton.csv"], expect_code=None, tag=tag)
+        failed_solves = len(re.findall(r"Linear solve did not converge", log))
+        if failed_solves == 0:
+            fail("%s: precondition: no linear solve failed, so this case no longer exercises the check (log tail:\n%s)"
+                 % (tag, log[-2000:]))
+        blocks = solve_blocks(out_base(tag) + "_newton.csv")
+        if extra and len(blocks) != 1:
+            fail("%s: expected the supported solve alone in step 1, got %d Newton solves" % (tag, len(blocks)))
+        reason = stats(out_base(tag) + ".csv")[-1]["reason"]
+        err, _ = shape_error(out_base(tag), rigid=False)
+        print("%s: -newton_history rows per Newton solve %s; failed linear solves %d; exit code %d; reason '%s'; "
+              "distance to rest %.3e L" % (tag, [len(b) for b in blocks], failed_solves, code, reason, err))
+        converged = not reason.startswith("diverged")
+        if converged and not err <= 1e-3:
+            fail("%s: reported converged ('%s') at %.3e L from the rest shape" % (tag, reason, err))
+        if not converged:
+            require_failure_exit(tag, code)
+    truncated_direction_not_converged()
+
+
+def require_failure_exit(tag, code):
+    """A failed step ends the run with exit code 3 (-on_failure stop)."""
+    if code != 3:
+        fail("%s: the failed step should end the run with exit code 3 (-on_failure stop), got %d" % (tag, code))
+
+
+def truncated_direction_not_converged():
+    """A direction from a trust-region CG that stopped at negative curvature (-ksp_type nash: CONVERGED_CG_NEG_CURVE,
+    a 'converged' KSP reason) is not a converged Newton step. The inside-out test bunny's step 1 with the exact
+    Hessian (-psd_projection none) and no preconditioner (Jacobi is indefinite there): NASH meets negative curvature
+    in its first iterations from update 1 on and returns p = 0, which the convergence check used to take as a Newton
+    step below the tolerance ("newton_step" with |r| 4.95e4 after 2 updates, 62x the start's residual). Now the step
+    must end either with a residual well below its start's or reported as failed."""
+    tag = "truncated_direction"
+    log, code = run(["-options_file", os.path.join(ARGS.root, "options", "bunny_inside_out.yml"), "-dm_plex_filename",
+                     mesh("bunny"), "-steps", "1", "-psd_projection", "none", "-ksp_type", "nash", "-pc_type", "none",
+                     "-snes_max_it", "30", "-ksp_converged_reason", "-output", out_base(tag), "-stats",
+                     out_base(tag) + ".csv", "-newton_history", out_base(tag) + "_newton.csv"],
+                    expect_code=None, tag=tag)
+    if not re.search(r"CONVERGED_(CG_)?NEG_CURVE", log):  # PETSc >= 3.19 names it CONVERGED_NEG_CURVE
+        fail("%s: precondition: no NASH solve stopped at negative curvature, so this case no longer exercises the "
+             "check (log tail:\n%s)" % (tag, log[-2000:]))
+    row = stats(out_base(tag) + ".csv")[-1]
+    history = csv_rows(out_base(tag) + "_newton.csv")
+    start = float(history[0]["residual"])
+    # The truncated p = 0 used to be taken in full as a 'residual step' (|g| unchanged) and counted, 30 times over.
+    idle = [h["iteration"] for h, nxt in zip(history, history[1:]) if float(h["lambda"]) > 0 and
+            h["energy"] == nxt["energy"] and h["residual"] == nxt["residual"]]
+    if idle:
+        fail("%s: updates that left the state unchanged were counted (iterations %s)" % (tag, idle))
+    final = float(row["residual"])
+    print("%s: reason '%s', exit code %d, residual %.3e at the start, %.3e at the end" % (tag, row["reason"], code,
+                                                                                        start, final))
+    if not row["reason"].startswith("diverged") and not final <= 1e-2 * start:
+        fail("%s: reported converged ('%s') with residual %.3e (start %.3e)" % (tag, row["reason"], final, start))
+    if row["reason"].startswith("diverged"):
+        require_failure_exit(tag, code)
+
+
+def case_newton_variants():
+    """Every Newton variant the options offer recovers the static scramble of the test cube (<= 1e-3 L, exit 0):
+    the element Hessian filters clamp, abs and adaptive, with and without the subspace step, and inexact linear
+    solves (-newton_forcing, PETSc's -snes_ksp_ew) whose small steps are certified by a solve at -ksp_rtol.
+
+    Each runs with -static_detached_start false, so the variant is exercised on the supported Newton solve from the
+    scrambled start (by default the body is first relaxed without its supports and the supported solve starts at
+    rest, a detour that hid a broken variant: without a working filter, -psd_projection none -newton_subspace 0, the
+    detached start still recovers while the supported solve fails with diverged_line_search). Checked per variant:
+    step 1 is that one solve (-newton_history), converged (newton_step) after at least one update (20-97 when this
+    was written), and the variant acted in it: every row used the requested filter (adaptive: clamp or abs; abs is
+    the static default) or, after a full-length update, none (-newton_exact_hessian, on by default), and subspace
+    steps were taken exactly when -newton_subspace is not 0."""
+    variants = [["-psd_projection", f, "-newton_subspace", m] for f in ("clamp", "abs", "adaptive") for m in ("0", "1")]
+    variants += [["-newton_forcing", "0.2"], ["-snes_ksp_ew"], ["-newton_subspace", "2", "-newton_subspace_max", "0"]]
+    for k, v in enumerate(variants):
+        tag = "variant%d" % k
+        run(static_scramble_args(mesh("cube"), 1, 2) + v + ["-static_detached_start", "false", "-output",
+            out_base(tag), "-output_every", "2", "-stats", out_base(tag) + ".csv", "-newton_history",
+            out_base(tag) + "_newton.csv"], tag=tag)
+        rows = stats(out_base(tag) + ".csv")
+        err, _ = shape_error(out_base(tag), rigid=False)
+        blocks = solve_blocks(out_base(tag) + "_newton.csv")
+        hist = [h for b in blocks for h in b]
+        filters = sorted(set(h["filter"] for h in hist))
+        subspace_steps = sum(1 for h in hist if h["subspace"] == "1")
+        print("%-50s step 1: %3s updates, %3s solves, %6s CG; reasons %s; %.2e L; filters %s, %d subspace steps"
+              % (" ".join(v), rows[0]["newton_its"], rows[0]["linear_solves"], rows[0]["ksp_its"],
+                 [r["reason"] for r in rows], err, filters, subspace_steps))
+        if not err <= 1e-3:
+            fail("%s: not recovered (%.3e L)" % (" ".join(v), err))
+        if len(blocks) != 1:
+            fail("%s: step 1 should be the supported solve alone (-static_detached_start false), got %d Newton solves"
+                 % (" ".join(v), len(blocks)))
+        if rows[0]["reason"] != "newton_step" or not int(rows[0]["newton_its"]) >= 1:
+            fail("%s: step 1 from the scramble: %s updates, reason %s (expected >= 1, newton_step)"
+                 % (" ".join(v), rows[0]["newton_its"], rows[0]["reason"]))
+        want = v[v.index("-psd_projection") + 1] if "-psd_projection" in v else "abs"
+        allowed = {"clamp", "abs"} if want == "adaptive" else {want}
+        allowed |= {"none"}  # -newton_exact_hessian (on by default): the unfiltered system after full-length updates
+        if not set(filters) <= allowed:
+            fail("%s: the Hessian filters used were %s, expected %s" % (" ".join(v), filters, sorted(allowed)))
+        subspace = v[v.index("-newton_subspace") + 1] if "-newton_subspace" in v else "1"
+        if (subspace_steps > 0) != (subspace != "0"):
+            fail("%s: %d subspace steps with -newton_subspace %s" % (" ".join(v), subspace_steps, subspace))
+
+
+def case_run_resources():
+    """The run's resource line: setup, step, model-evaluation and output wall times and one peak-memory entry per
+    rank; the evaluations are part of the steps' time, which is the stats' wall_s summed."""
+    tag = "resources_np%d" % ARGS.ranks
+    log, _ = run(["-dm_plex_filename", mesh("bunny"), "-steps", "2", "-output", out_base(tag), "-stats",
+                  out_base(tag) + ".csv"], tag=tag)
+    m = re.search(r"^aries: wall time setup (\S+) s, steps (\S+) s \(model evaluations (\S+) s\), output (\S+) s; "
+                  r"peak memory per rank (.+) MB$", log, re.M)
+    if not m:
+        fail("no resource line in the run's output")
+    setup, steps, model, output = (float(m.group(k)) for k in range(1, 5))
+    memory = [float(v) for v in m.group(5).split(" / ")]
+    wall = sum(float(r["wall_s"]) for r in stats(out_base(tag) + ".csv"))
+    print("setup %.2f s, steps %.2f s (stats: %.2f s), model evaluations %.2f s, output %.2f s; memory %s MB"
+          % (setup, steps, wall, model, output, memory))
+    if len(memory) != ARGS.ranks or not all(v > 10 for v in memory):
+        fail("expected one peak memory above 10 MB per rank (%d ranks), got %s" % (ARGS.ranks, memory))
+    if not (setup > 0 and output > 0 and 0 < model <= steps and abs(steps - wall) <= 0.01 + 1e-3 * wall):
+        fail("inconsistent times: setup %g, steps %g (stats %g), model %g, output %g" % (setup, steps, wall, model,
+                                                                                            output))
+
+
+def case_multigrid_rule():
+    """The preconditioner rule: without -pc_type a static solve of at least -multigrid_min_dofs free DoFs runs CG + GAMG
+    (announced on one line; lowered here to 0 for a test mesh), and ends where CG + Jacobi does (within the Newton
+    tolerance); -pc_type jacobi, a dynamic run or -multigrid_min_dofs -1 keep CG + Jacobi; -pc_type gamg given by the
+    user runs too (aries assembles AIJ for it: PETSc 3.18's GAMG cannot coarsen BAIJ); the static scramble's detached
+    relaxation inherits GAMG and converges."""
+    body = ["-dm_plex_filename", mesh("cube"), "-energy", "iarap", "-E", "1e4", "-nu", "0.3", "-bc_clamp", "bottom,top",
+            "-bc_clamp_top_translate", "0,0,-0.1", "-strict"]
+    cube = body + ["-integrator", "static", "-steps", "2", "-newton_tol", "1e-8"]
+    announced = "aries: linear solver CG + GAMG"
+    states = {}
+    for label, extra, gamg in (("rule", ["-multigrid_min_dofs", "0"], True),
+                               ("jacobi", ["-multigrid_min_dofs", "0", "-pc_type", "jacobi"], False),
+                               ("user_gamg", ["-pc_type", "gamg"], False),
+                               ("default", [], False), ("never", ["-multigrid_min_dofs", "-1"], False)):
+        tag = "mg_rule_%s_np%d" % (label, ARGS.ranks)
+        log, _ = run(cube + extra + ["-output", out_base(tag), "-output_every", "2", "-stats", out_base(tag) + ".csv"],
+                     tag=tag)
+        if (announced in log) != gamg:
+            fail("%s: GAMG %s announced" % (label, "not" if gamg else "wrongly"))
+        if not all(r["reason"] in CONVERGED for r in stats(out_base(tag) + ".csv")):
+            fail("%s: a step did not converge" % label)
+        states[label] = read_state(out_base(tag))
+    rest, _, x_gamg, _ = states["rule"]
+    L = np.linalg.norm(rest.max(0) - rest.min(0))
+    d = np.abs(x_gamg - states["jacobi"][2]).max() / L
+    print("GAMG by rule vs CG + Jacobi: %.2e L" % d)
+    if not d <= 1e-6:
+        fail("GAMG and Jacobi runs end %.3e L apart" % d)
+    tag = "mg_rule_dynamic_np%d" % ARGS.ranks
+    log, _ = run(body + ["-integrator", "beuler", "-dt", "1e-2", "-density", "1000", "-steps", "2",
+                         "-multigrid_min_dofs", "0"], tag=tag)
+    if announced in log:
+        fail("a dynamic run chose GAMG")
+    tag = "mg_rule_scramble_np%d" % ARGS.ranks
+    log, _ = run(["-dm_plex_filename", mesh("cube"), "-energy", "iarap", "-E", "1e4", "-nu", "0.3", "-bc_clamp", "bottom",
+                  "-initial", "scramble", "-integrator", "static", "-steps", "1", "-multigrid_min_dofs", "0",
+                  "-stats", out_base(tag) + ".csv", "-strict"], tag=tag)
+    if announced not in log or stats(out_base(tag) + ".csv")[-1]["reason"] not in CONVERGED:
+        fail("the static scramble with GAMG by rule did not converge")
+
+
+CASES = {
+    "safeguard_basic": lambda: case_safeguard("basic"),
+    "safeguard_l2": lambda: case_safeguard("l2"),
+    "kim_aa_fails": case_kim_aa_fails,
+    "no_false_convergence": case_no_false_convergence,
+    "newton_variants": case_newton_variants,
+    "multigrid_rule": case_multigrid_rule,
+    "run_resources": case_run_resources,
+}
