@@ -182,13 +182,11 @@ struct NodeData {
       if (k < 4) t.node[k] = i;
     }
     if (hasTag && t.dim == 2 && corners <= 4) tagged.push_back(t);  // the faces of a 3D mesh
-    if (type == 11) {
-      facets->secondOrder = true;
+    if (type == 11)
       for (int k = 0; k < 6; ++k)
         edgeNodes.push_back({index.at(static_cast<long>(nodeTags[kGmshTet10Edges[k][0]])),
                              index.at(static_cast<long>(nodeTags[kGmshTet10Edges[k][1]])),
                              index.at(static_cast<long>(nodeTags[4 + k]))});
-    }
   }
   GmshFacts facts() const {
     return GmshFacts{true, hi[2] - lo[2], std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]})};

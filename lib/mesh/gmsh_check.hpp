@@ -41,7 +41,6 @@ struct GmshFacets {
     long a = 0, b = 0;
     std::array<double, 3> x{};
   };
-  bool secondOrder = false;  // the file has 10-node tetrahedra
   std::vector<EdgeNode> edgeNodes;
 };
 

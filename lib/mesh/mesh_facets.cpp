@@ -93,6 +93,24 @@ PetscErrorCode gmshFacetRows(MPI_Comm comm, const Mesh &mesh, DM serial, const G
   PetscFunctionReturn(0);
 }
 
+// PETSc's gmsh reader with second-order elements read as their corners: its high-order coordinate field (its default)
+// would give the mesh coordinates no vertex layout; -element p2 places the edge nodes from the file itself
+// (mesh_quadratic.cpp). The option is set for this reading only, unless the user gave it (true is refused).
+PetscErrorCode readAsCorners(MPI_Comm comm, const std::string &file, PetscBool interpolate, DM *serial) {
+  PetscBool highOrder = PETSC_FALSE, highOrderSet = PETSC_FALSE;
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-dm_plex_gmsh_highorder", &highOrder, &highOrderSet));
+  if (highOrderSet && highOrder)
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+            "option -dm_plex_gmsh_highorder: aries reads a second-order gmsh mesh as its corners, and -element p2 "
+            "takes the edge nodes from the file itself; remove the option");
+  if (!highOrderSet) PetscCall(PetscOptionsSetValue(nullptr, "-dm_plex_gmsh_highorder", "false"));
+  const PetscErrorCode ierr = DMPlexCreateFromFile(comm, file.c_str(), "aries", interpolate, serial);
+  if (!highOrderSet) PetscCall(PetscOptionsClearValue(nullptr, "-dm_plex_gmsh_highorder"));
+  PetscCall(ierr);
+  PetscFunctionReturn(0);
+}
+
 }  // namespace
 
 PetscErrorCode readGmshSerial(MPI_Comm comm, const Mesh &mesh, const GmshFacets &facets, bool mayDeferFaces,
@@ -109,19 +127,7 @@ PetscErrorCode readGmshSerial(MPI_Comm comm, const Mesh &mesh, const GmshFacets 
     if (set) defer = 0;
   }
   PetscCallMPI(MPI_Bcast(&defer, 1, MPI_INT, 0, comm));
-  // Second-order elements are read as their corners: PETSc's high-order coordinate field (its default) would give the
-  // mesh coordinates no vertex layout; -element p2 places its edge nodes from the file itself (mesh_quadratic.cpp).
-  PetscBool highOrder = PETSC_FALSE, highOrderSet = PETSC_FALSE;
-  PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-dm_plex_gmsh_highorder", &highOrder, &highOrderSet));
-  if (highOrderSet && highOrder)
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
-            "option -dm_plex_gmsh_highorder: aries reads a second-order gmsh mesh as its corners, and -element p2 "
-            "takes the edge nodes from the file itself; remove the option");
-  if (!highOrderSet) PetscCall(PetscOptionsSetValue(nullptr, "-dm_plex_gmsh_highorder", "false"));
-  PetscErrorCode ierr =
-      DMPlexCreateFromFile(comm, mesh.filename.c_str(), "aries", defer ? PETSC_FALSE : PETSC_TRUE, serial);
-  if (!highOrderSet) PetscCall(PetscOptionsClearValue(nullptr, "-dm_plex_gmsh_highorder"));
-  PetscCall(ierr);
+  PetscCall(readAsCorners(comm, mesh.filename, defer ? PETSC_FALSE : PETSC_TRUE, serial));
   if (defer) {
     bool numberingMatches = false;
     PetscCall(gmshFacetRows(comm, mesh, *serial, facets, facetRows, &numberingMatches));
@@ -129,10 +135,7 @@ PetscErrorCode readGmshSerial(MPI_Comm comm, const Mesh &mesh, const GmshFacets 
       PetscCall(PetscInfo(nullptr, "aries: %s: vertex numbering not as expected; faces made on rank 0\n",
                           mesh.filename.c_str()));
       PetscCall(DMDestroy(serial));
-      if (!highOrderSet) PetscCall(PetscOptionsSetValue(nullptr, "-dm_plex_gmsh_highorder", "false"));
-      ierr = DMPlexCreateFromFile(comm, mesh.filename.c_str(), "aries", PETSC_TRUE, serial);
-      if (!highOrderSet) PetscCall(PetscOptionsClearValue(nullptr, "-dm_plex_gmsh_highorder"));
-      PetscCall(ierr);
+      PetscCall(readAsCorners(comm, mesh.filename, PETSC_TRUE, serial));
       defer = 0;
     }
   }

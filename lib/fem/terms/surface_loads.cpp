@@ -91,28 +91,27 @@ PetscErrorCode SurfaceLoads<R>::setup(const Mesh &mesh, const std::vector<Surfac
         for (int v = 0; v < 6; ++v) moments.back().push_back(m.row(v).transpose());
         local += a.sum();
       }
-      facets.clear();  // done
-    }
-    const size_t first = facetVertices.size();
-    facetVertices.resize(first + facets.size());
-    shares.resize(first + facets.size());
-    moments.resize(first + facets.size());
-    for (size_t k = 0; k < facets.size(); ++k) {
-      std::vector<PetscInt> &vs = facetVertices[first + k];
-      if (pressure) vs.assign(oriented[k].vertex.begin(), oriented[k].vertex.begin() + oriented[k].count);
-      else PetscCall(closureVertices(mesh, facets[k], &vs));
-      std::vector<Eigen::Vector3d> X;
-      for (PetscInt v : vs) X.push_back(verts_[v].rest);
-      local += facetVertexAreas(X, &shares[first + k]);
-      if (!pressure) continue;
-      if (vs.size() == 4) {  // a possibly warped bilinear quadrangle: its normal varies over it
-        kernels::Mat<4, 3> Xq;
-        for (int v = 0; v < 4; ++v) Xq.row(v) = X[v].transpose();
-        const kernels::Mat<4, 3> m = kernels::faceAreaMoments<kernels::face::Quad4>(Xq);
-        for (int v = 0; v < 4; ++v) moments[first + k].push_back(m.row(v).transpose());
-      } else {  // flat: its unit normal times each vertex's share of the area
-        const Eigen::Vector3d n = restAreaVector(verts_, oriented[k]).normalized();
-        for (double a : shares[first + k]) moments[first + k].push_back(a * n);
+    } else {  // each facet as it is
+      facetVertices.resize(facets.size());
+      shares.resize(facets.size());
+      moments.resize(facets.size());
+      for (size_t k = 0; k < facets.size(); ++k) {
+        std::vector<PetscInt> &vs = facetVertices[k];
+        if (pressure) vs.assign(oriented[k].vertex.begin(), oriented[k].vertex.begin() + oriented[k].count);
+        else PetscCall(closureVertices(mesh, facets[k], &vs));
+        std::vector<Eigen::Vector3d> X;
+        for (PetscInt v : vs) X.push_back(verts_[v].rest);
+        local += facetVertexAreas(X, &shares[k]);
+        if (!pressure) continue;
+        if (vs.size() == 4) {  // a possibly warped bilinear quadrangle: its normal varies over it
+          kernels::Mat<4, 3> Xq;
+          for (int v = 0; v < 4; ++v) Xq.row(v) = X[v].transpose();
+          const kernels::Mat<4, 3> m = kernels::faceAreaMoments<kernels::face::Quad4>(Xq);
+          for (int v = 0; v < 4; ++v) moments[k].push_back(m.row(v).transpose());
+        } else {  // flat: its unit normal times each vertex's share of the area
+          const Eigen::Vector3d n = restAreaVector(verts_, oriented[k]).normalized();
+          for (double a : shares[k]) moments[k].push_back(a * n);
+        }
       }
     }
     PetscCallMPI(MPI_Allreduce(&local, &total, 1, MPI_DOUBLE, MPI_SUM, comm));
