@@ -6,7 +6,7 @@
 // F has 9 (3x3 tet), 4 (2x2 planar) or 6 (3x2 cloth) entries, row-major. Material options are those of the solver
 // (docs/options.md): -E -nu | -mu -lambda, -gamma, -mu1 -mu2, -beta, -fiber, -fiber2, -target, -curvature,
 // -singularity and its parameters. Any unknown option is an error.
-#include "energies/energy.hpp"
+#include "energies/point_evaluation.hpp"
 #include "fem/material_options.hpp"
 #include "core/options.hpp"
 #include "core/errors.hpp"
@@ -70,17 +70,13 @@ PetscErrorCode evaluateAt(const energies::Material &m, const fem::UniformCellDat
   constexpr int N = R * C;
   PetscFunctionBeginUser;
   const energies::CellData<C> cell = fem::toCellData<C>(u);
-  const auto d = energies::evaluateEnergy<R, C>(m, cell, F);
-  // The PSD projection the solver assembles (clamp; closed-form eigensystem where the energy has one).
-  const Mat<N, N> psd = energies::evaluateFilteredEnergy<R, C>(m, cell, F, {kernels::EigenFilter::Clamp, true}).hess;
-  const kernels::RootValue root = kernels::rootValue(F);
-  const bool hasI4 = energies::energyUsesFibers(m.kind);
-  const bool hasI6 = hasI4 && C == 2 && R == 3;
-  double I4 = NAN, I6 = NAN;
-  if (hasI4) I4 = kernels::stretchInvariantValue<R, C>(kernels::makeRootContext<R, C>(F, kernels::Order::Value),
-                                                       kernels::fiberTensor<C>(cell.a));
-  if (hasI6) I6 = kernels::stretchInvariantValue<R, C>(kernels::makeRootContext<R, C>(F, kernels::Order::Value),
-                                                       kernels::crossFiberTensor<C>(cell.a, cell.b));
+  // The PSD projection the solver assembles in dynamic steps (clamp; closed-form eigensystem where the energy has one).
+  const energies::HessianFilter clamp{kernels::EigenFilter::Clamp, true};
+  const auto point = energies::evaluatePoint<R, C>(m, cell, F, &clamp);
+  const auto &d = point.derivs;
+  const Mat<N, N> &psd = point.projected;
+  const bool hasI4 = point.hasI4, hasI6 = point.hasI6;
+  const double I4 = point.I4, I6 = point.I6;
   if (json) {
     Eigen::Matrix<double, N, N, Eigen::RowMajor> H = d.hess, P = psd;
     std::printf("{\"energy\":");
@@ -92,9 +88,9 @@ PetscErrorCode evaluateAt(const energies::Material &m, const fem::UniformCellDat
     std::printf(",\"hessian_psd\":");
     printArray<N>(P.data(), N * N);
     std::printf(",\"f\":");
-    printNumber(root.f);
+    printNumber(point.f);
     std::printf(",\"alpha\":");
-    printNumber(root.alpha);
+    printNumber(point.alpha);
     if (hasI4) {
       std::printf(",\"I4\":");
       printNumber(I4);
@@ -109,7 +105,7 @@ PetscErrorCode evaluateAt(const energies::Material &m, const fem::UniformCellDat
     std::printf("energy %s (%s elements, singularity %s)\n", energies::energyName(m.kind),
                 R == C ? (R == 3 ? "tet" : "planar") : "cloth", energies::singularityName(m.singularity.mode));
     std::printf("  Psi      = %.12g\n", d.value);
-    std::printf("  f = I1   = %.12g\n  alpha    = %.12g\n", root.f, root.alpha);
+    std::printf("  f = I1   = %.12g\n  alpha    = %.12g\n", point.f, point.alpha);
     if (hasI4) std::printf("  I4(a)    = %.12g\n", I4);
     if (hasI6) std::printf("  I6(a,b)  = %.12g\n", I6);
     const Mat<R, C> P = kernels::unflatten<R, C>(d.grad);

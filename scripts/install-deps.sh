@@ -8,6 +8,7 @@ packages=(
   libgtest-dev libbenchmark-dev               # tests and kernel benchmarks
   gmsh tetgen                                 # mesh generation for the scenes
   python3-h5py python3-numpy python3-matplotlib  # XDMF generation, PNG snapshots, charts
+  pybind11-dev python3-dev python3-scipy      # the Python module of the kernels (python/) and its example
   python3-meshio                              # the output test reads the XDMF as a third-party client
   paraview python3-paraview xvfb xauth        # ParaView's pvpython reads the XDMF in a test (headless, under xvfb)
   libcgal-demo                                # closed/disk surfaces (armadillo, bunny-like, UV disks)
