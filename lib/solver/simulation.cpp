@@ -49,6 +49,7 @@ PetscErrorCode readSimulationOptions(SimulationOptions *o) {
     PetscBool ps = PETSC_TRUE;
     PetscCall(core::get(opt::predictorStart, &ps));
     o->predictorStart = ps;
+    PetscCall(core::get(opt::beulerShapeFirst, &o->beulerShapeFirst));
   }
   PetscBool nested = PETSC_FALSE;
   PetscCall(core::get(opt::coarseMesh, &o->coarseMeshes, &nested));
@@ -338,6 +339,12 @@ PetscErrorCode Simulation::advance(double dt, double loadTarget, int depth, Newt
     PetscCall(DMRestoreLocalVector(disc_->dm(), &xLocal));
     acc->barrierFallbackCells = std::max(acc->barrierFallbackCells, fallback);
     acc->barrierActiveCells = std::max(acc->barrierActiveCells, active);
+  }
+  if (dynamic && opts_.beulerShapeFirst > 0.0) {  // a start dominated by volume terms: the stretch terms first
+    bool ran = false;
+    PetscCall(PetscLogStagePush(solveStage_));
+    PetscCall(solveShapeFirst(*disc_, newton_, x_, opts_.beulerShapeFirst, acc, &ran));
+    PetscCall(PetscLogStagePop());
   }
   PetscCall(solveToLoad(loadTarget, acc, ok, reason));
   if (*ok) {

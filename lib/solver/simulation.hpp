@@ -39,11 +39,18 @@ struct SimulationOptions {
   bool predictorStart = false;  // -predictor_start (backward Euler; on by default there)
   bool detachedStart = false;   // -static_detached_start (static runs from a synthetic start; on by default there)
   bool detachedShapeFirst = true;  // -static_detached_shape_first: the detached relaxation starts without volume terms
+  double beulerShapeFirst = 0.0;   // -beuler_shape_first: a backward Euler step dominated by volume terms, likewise
   std::vector<std::string> coarseMeshes;  // -coarse_mesh, finest first (nested_start.cpp)
   PetscInt coarseSteps = 1;                // -coarse_steps: the first N steps start from the coarse levels (-1: all)
   NewtonOptions newton;            // the Newton solver's (newton_options.hpp); the detached start's own are read
                                    // when it begins (prefix detached_, starting from these)
 };
+
+// The shape stage (shape_first.cpp): where the materials' stretch terms alone fix every cell's shape and some material
+// has a volume term, and the volume terms' energy at x exceeds `minRatio` times the other elastic energy (0: always),
+// solves from x with the volume terms suspended (x is restored if that solve fails); *ran: it did. Collective.
+PetscErrorCode solveShapeFirst(fem::Discretization &disc, NewtonSolver &newton, Vec x, double minRatio,
+                               NewtonResult *acc, bool *ran);
 
 // Reads every option of the solver layer (the Newton solver's too) into plain data before anything is set up.
 PetscErrorCode readSimulationOptions(SimulationOptions *opts);

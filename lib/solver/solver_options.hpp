@@ -48,6 +48,13 @@ inline constexpr OptionDecl predictorStart =
                "beuler: Newton starts from the prediction x_n + dt v_n when its total potential is lower and the "
                "safeguard accepts it")
         .byDefault("true");
+inline constexpr OptionDecl beulerShapeFirst =
+    realOption("-beuler_shape_first", "X",
+               "beuler: a step whose start holds more than X times as much volume-term energy as other elastic energy "
+               "(a scrambled body) first solves without the volume terms, then with the full energy; only where the "
+               "stretch terms alone fix every cell's shape; 0: never (see The shape stage below)")
+        .byDefault("10")
+        .atLeast(0);
 inline constexpr OptionDecl onFailure =
     choiceOption("-on_failure", "stop|halve_dt|continue",
                  "a step whose Newton solve fails: stop (exit code 3, last accepted state written), retry as two half "
@@ -58,7 +65,7 @@ inline constexpr OptionDecl maxStepHalvings =
 
 inline constexpr const OptionDecl *kSteppingOptions[] = {
     &integrator, &dt, &steps, &initial, &scrambleVolumeRatio, &scrambleSeed, &detachedStart, &detachedShapeFirst,
-    &predictorStart, &onFailure, &maxStepHalvings};
+    &beulerShapeFirst, &predictorStart, &onFailure, &maxStepHalvings};
 
 // ---- nested iteration (solver/nested_start.cpp) ----
 using core::wordsOption;

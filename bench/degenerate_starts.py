@@ -1,0 +1,205 @@
+#!/usr/bin/python3
+"""Degenerate starts with a volume term (issue 49): dynamic scrambles at nu 0, 0.3, 0.45 for iarap, fiber (along x
+and oblique) and ortho on meshes the scenes do not use, seeds 1-3, 1 and 2 ranks; the static scramble and the
+inside-out start at nu 0.3 and 0.45; and, for comparison, the dynamic scramble without the shape stage
+(-beuler_shape_first 0, the behaviour before it) on one seed.
+
+Each dynamic run: backward Euler dt 1e-2, density 1000, gravity -9.81 z, E 1e4, 2 steps, the lowest tenth of the
+body's height held (-bc_box), every free vertex scrambled (-initial scramble). Reported per run from -stats: step 1's
+Newton updates, CG iterations, linear solves stopped at -ksp_max_it and wall seconds; whether every step converged;
+and step 2's updates. The summary gives, per energy and nu, the medians over meshes, seeds and ranks and their ratio
+to nu 0's.
+
+usage: /usr/bin/python3 bench/degenerate_starts.py [--build build] [--energies A,B] [--meshes M,N] [--seeds 1,2,3]
+                                                  [--ranks 1,2] [--timeout S] [--no-static] [--out NAME]
+  defaults: every energy, mesh, seed 1-3, 1 and 2 ranks, 1800 s per run, the static starts too; --out NAME writes
+  bench/results/NAME.md (default degenerate_starts). A run past --timeout is reported as not converged.
+"""
+import argparse
+import csv
+import datetime
+import json
+import os
+import statistics
+import subprocess
+import sys
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+MESHES = ["camel", "triceratops", "hand"]  # meshes/generate.sh NAME default: 16.6k, 30.2k, 34.1k tets
+ENERGIES = {
+    "iarap": ["-energy", "iarap"],
+    "fiber x": ["-energy", "fiber", "-gamma", "5e3", "-fiber", "1,0,0"],
+    "fiber oblique": ["-energy", "fiber", "-gamma", "5e3", "-fiber", "1,0.5,0.2"],
+    "ortho": ["-energy", "ortho", "-ortho_mu", "3846,7692,1923", "-fiber", "1,0.5,0.2", "-fiber2", "0,1,0"],
+}
+NUS = ["0", "0.3", "0.45"]
+ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+           OMPI_MCA_rmaps_base_oversubscribe="1")
+
+
+def mesh_path(name):
+    out = subprocess.run([os.path.join(ROOT, "meshes", "generate.sh"), name, "default"], stdout=subprocess.PIPE,
+                         check=True, text=True).stdout.strip()
+    info = json.load(open(out[:-4] + ".json"))
+    lo, hi = info["bbox_min"], info["bbox_max"]
+    held = f"-10,10,-10,10,-10,{lo[2] + 0.1 * (hi[2] - lo[2]):.6g}"
+    return out, info["tets"], held
+
+
+def run(build, ranks, args, stats, timeout=1800):
+    cmd = (["mpiexec", "-n", str(ranks)] if ranks > 1 else []) + [os.path.join(build, "aries")] + args
+    cmd += ["-stats", stats]
+    if os.path.exists(stats):
+        os.remove(stats)
+    t0 = time.perf_counter()
+    try:
+        proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV,
+                              timeout=timeout, start_new_session=True)
+    except subprocess.TimeoutExpired:
+        subprocess.run(["pkill", "-f", os.path.join(build, "aries")])
+        return 124, [], time.perf_counter() - t0, [f"timeout after {timeout:.0f} s"]
+    wall = time.perf_counter() - t0
+    rows = list(csv.DictReader(line for line in open(stats) if not line.startswith("#"))) if os.path.exists(stats) \
+        else []
+    return proc.returncode, rows, wall, proc.stderr.strip().splitlines()[-1:] if proc.returncode else []
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--build", default=os.path.join(ROOT, "build"))
+    parser.add_argument("--energies", default=",".join(ENERGIES))
+    parser.add_argument("--meshes", default=",".join(MESHES))
+    parser.add_argument("--seeds", default="1,2,3")
+    parser.add_argument("--ranks", default="1,2")
+    parser.add_argument("--timeout", type=float, default=1800)
+    parser.add_argument("--no-static", action="store_true")
+    parser.add_argument("--out", default="degenerate_starts")
+    args = parser.parse_args()
+    meshes = args.meshes.split(",")
+    seeds = [int(x) for x in args.seeds.split(",")]
+    ranks_list = [int(x) for x in args.ranks.split(",")]
+    energies = args.energies.split(",")
+    for e in energies:
+        if e not in ENERGIES:
+            sys.exit(f"degenerate_starts: error: unknown energy '{e}' (known: {', '.join(ENERGIES)})")
+    work = os.path.join(ROOT, "out", "bench", "degenerate_starts")
+    os.makedirs(work, exist_ok=True)
+    results, lines = [], []
+    started = time.perf_counter()
+
+    def dynamic(mesh, tets, held, energy, nu, seed, ranks, extra=()):
+        a = ["-dm_plex_filename", mesh, "-E", "1e4", "-nu", nu, "-integrator", "beuler", "-dt", "1e-2",
+             "-steps", "2", "-density", "1000", "-gravity", "0,0,-9.81", "-initial", "scramble",
+             "-scramble_seed", str(seed), "-bc_box", held] + ENERGIES[energy] + list(extra)
+        rc, rows, wall, err = run(args.build, ranks, a, os.path.join(work, "stats.csv"), args.timeout)
+        ok = rc == 0 and len(rows) == 2 and all(r["reason"] not in ("", "failed") for r in rows)
+        s1 = rows[0] if rows else {}
+        return dict(mesh=os.path.basename(mesh), tets=tets, energy=energy, nu=nu, seed=seed, ranks=ranks, ok=ok,
+                    rc=rc, updates=int(s1.get("newton_its", -1)), cg=int(s1.get("ksp_its", -1)),
+                    at_limit=int(s1.get("ksp_at_limit", -1)), seconds=float(s1.get("wall_s", "nan")),
+                    step2=int(rows[1]["newton_its"]) if len(rows) > 1 else -1, reason=s1.get("reason", str(err)),
+                    energy_value=float(s1.get("energy", "nan")), extra=" ".join(extra))
+
+    for name in meshes:
+        mesh, tets, held = mesh_path(name)
+        for energy in energies:
+            for nu in NUS:
+                for seed in seeds:
+                    for ranks in ranks_list:
+                        r = dynamic(mesh, tets, held, energy, nu, seed, ranks)
+                        results.append(r)
+                        print(json.dumps(r), flush=True)
+        for nu in ("0.3",) if "iarap" in energies else ():  # before: no shape stage
+            r = dynamic(mesh, tets, held, "iarap", nu, 1, 2, ["-beuler_shape_first", "0"])
+            results.append(r)
+            print(json.dumps(r), flush=True)
+
+    static = []
+    for name in [] if args.no_static else meshes:
+        mesh, tets, held = mesh_path(name)
+        for start in ("scramble", "invert"):
+            for nu in ("0.3", "0.45"):
+                a = ["-dm_plex_filename", mesh, "-energy", "iarap", "-E", "1e4", "-nu", nu, "-integrator", "static",
+                     "-steps", "1", "-initial", start, "-bc_box", held]
+                rc, rows, wall, err = run(args.build, 2, a, os.path.join(work, "stats.csv"), args.timeout)
+                s1 = rows[0] if rows else {}
+                static.append(dict(mesh=name, tets=tets, start=start, nu=nu, rc=rc,
+                                   updates=int(s1.get("newton_its", -1)), cg=int(s1.get("ksp_its", -1)),
+                                   at_limit=int(s1.get("ksp_at_limit", -1)), seconds=float(s1.get("wall_s", "nan")),
+                                   reason=s1.get("reason", str(err))))
+                print(json.dumps(static[-1]), flush=True)
+
+    main_runs = [r for r in results if not r["extra"]]
+    lines += [f"# Degenerate starts with a volume term", "",
+              f"Generated by `bench/degenerate_starts.py {' '.join(sys.argv[1:])}` on {os.cpu_count()} cores, "
+              f"{datetime.datetime.utcnow():%Y-%m-%d %H:%M} UTC, {time.perf_counter() - started:.0f} s. Dynamic "
+              "scramble: backward Euler dt 1e-2, density 1000, gravity, E 1e4, 2 steps, the lowest tenth held; "
+              "meshes " + ", ".join(f"{m} default" for m in meshes) + f"; seeds {seeds}; ranks {ranks_list}. "
+              "Step 1 unless said.", "",
+              f"Every dynamic run converged in both steps: **{all(r['ok'] for r in main_runs)}** "
+              f"({sum(r['ok'] for r in main_runs)} of {len(main_runs)}); step-1 linear solves at -ksp_max_it in all "
+              f"runs: **{sum(r['at_limit'] for r in main_runs)}**.", "",
+              "## Medians per energy and nu (over meshes, seeds and ranks)", "",
+              "| energy | nu | runs | step-1 updates | CG iterations | seconds | updates / nu 0 | CG / nu 0 | "
+              "seconds / nu 0 | step-2 updates |", "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    for energy in energies:
+        base = None
+        for nu in NUS:
+            rs = [r for r in main_runs if r["energy"] == energy and r["nu"] == nu and r["ok"]]
+            if not rs:
+                lines.append(f"| {energy} | {nu} | 0 | (no run converged) | | | | | | |")
+                continue
+            med = {k: statistics.median(r[k] for r in rs) for k in ("updates", "cg", "seconds", "step2")}
+            base = base or med
+            lines.append(f"| {energy} | {nu} | {len(rs)} | {med['updates']:.0f} | {med['cg']:.0f} | "
+                         f"{med['seconds']:.2f} | {med['updates'] / base['updates']:.2f} | {med['cg'] / base['cg']:.2f} | "
+                         f"{med['seconds'] / base['seconds']:.2f} | {med['step2']:.0f} |")
+    lines += ["", "## Worst run per energy and nu", "",
+              "| energy | nu | mesh | seed | ranks | step-1 updates | CG | at limit | seconds |",
+              "|---|---:|---|---:|---:|---:|---:|---:|---:|"]
+    for energy in energies:
+        for nu in NUS:
+            rs = [r for r in main_runs if r["energy"] == energy and r["nu"] == nu]
+            if not rs:
+                continue
+            r = max(rs, key=lambda r: (not r["ok"], r["updates"]))
+            lines.append(f"| {energy} | {nu} | {r['mesh']} | {r['seed']} | {r['ranks']} | {r['updates']} | {r['cg']} | "
+                         f"{r['at_limit']} | {r['seconds']:.2f} |")
+    lines += ["", "## Rank independence (step-1 energy, 1 vs 2 ranks)", ""]
+    worst = 0.0
+    for r1 in (r for r in main_runs if r["ranks"] == 1):
+        for r2 in main_runs:
+            if r2["ranks"] == 2 and all(r2[k] == r1[k] for k in ("mesh", "energy", "nu", "seed")):
+                worst = max(worst, abs(r1["energy_value"] - r2["energy_value"]) / abs(r2["energy_value"]))
+    lines.append(f"Largest relative difference of step 1's elastic energy between 1 and 2 ranks: {worst:.2e}" if
+                 any(r["ranks"] == 1 for r in main_runs) else "(one rank count only)")
+    lines += ["", "## Without the shape stage (-beuler_shape_first 0: before), iarap nu 0.3, seed 1, 2 ranks", "",
+              "| mesh | step-1 updates | CG | at limit | seconds | with the stage: updates | CG | seconds |",
+              "|---|---:|---:|---:|---:|---:|---:|---:|"]
+    for r in (r for r in results if r["extra"]):
+        w = next(x for x in main_runs if x["mesh"] == r["mesh"] and x["energy"] == "iarap" and x["nu"] == r["nu"]
+                 and x["seed"] == 1 and x["ranks"] == 2)
+        lines.append(f"| {r['mesh']} | {r['updates']} | {r['cg']} | {r['at_limit']} | {r['seconds']:.2f} | "
+                     f"{w['updates']} | {w['cg']} | {w['seconds']:.2f} |")
+    lines += ["", "## Static starts (iarap, 2 ranks, the detached start with its shape stage)", "",
+              "| mesh | start | nu | exit | updates | CG | at limit | seconds | reason |",
+              "|---|---|---:|---:|---:|---:|---:|---:|---|"]
+    for r in static:
+        lines.append(f"| {r['mesh']} | {r['start']} | {r['nu']} | {r['rc']} | {r['updates']} | {r['cg']} | "
+                     f"{r['at_limit']} | {r['seconds']:.2f} | {r['reason']} |")
+    lines += ["", "## Every dynamic run", "", "| mesh | energy | nu | seed | ranks | converged | step-1 updates | CG | "
+              "at limit | seconds | step-2 updates | options |", "|---|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---|"]
+    for r in results:
+        lines.append(f"| {r['mesh']} | {r['energy']} | {r['nu']} | {r['seed']} | {r['ranks']} | {r['ok']} | "
+                     f"{r['updates']} | {r['cg']} | {r['at_limit']} | {r['seconds']:.2f} | {r['step2']} | {r['extra']} |")
+    text = "\n".join(lines) + "\n"
+    os.makedirs(os.path.join(ROOT, "bench", "results"), exist_ok=True)
+    with open(os.path.join(ROOT, "bench", "results", args.out + ".md"), "w") as f:
+        f.write(text)
+    print(text)
+    return 0 if all(r["ok"] for r in main_runs) else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

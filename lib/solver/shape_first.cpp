@@ -1,0 +1,71 @@
+// Solving a degenerate start's stretch terms before its volume terms (the shape stage), shared by the static
+// detached start (detached_start.cpp: always, on the detached body) and by backward Euler steps whose start holds
+// far more volume-term energy than other elastic energy (Simulation::advance, -beuler_shape_first X: a scrambled
+// body, where the ratio is in the thousands; a moving body's steps, rest or inverted starts stay near or below 1).
+//
+// Why: a scrambled cell is stretched by about L / h, so J grows like the cube of the stretch and the volume term
+// lambda/2 (J - J0)^2 like its sixth power, with a Hessian lambda cof F (x) cof F + lambda (J - J0) d2J whose
+// curvatures outgrow the stretch terms' (mu |F - R|^2: the square) and the mass term by orders of magnitude. Newton
+// on such a term shrinks the stretch by a fixed factor per update (s^6 loses 1/5 of s per Newton step), and its
+// linear systems are so badly scaled that CG + Jacobi stalls at -ksp_max_it: at nu = 0.3 a dynamic scramble's first
+// step took 97 updates and 430k CG iterations (33 solves at the limit) where nu = 0 (no volume term) took 18 and 795;
+// with the stage, 45 and 6.8k (camel, 16.6k tets, seed 1, 2 ranks: bench/results/degenerate_starts.md).
+// Without the volume terms the stretch terms gather the body in a few updates; the full energy then starts from a
+// state whose cells are near their rest shapes, where the volume term is well scaled. The step's solution is the full
+// energy's either way: the stage only moves the point Newton starts from. The stage's updates, linear solves and
+// history are the step's.
+#include "solver/simulation.hpp"
+
+namespace aries::solver {
+
+namespace {
+
+// The volume terms' elastic energy at x over the other terms' (0 without volume terms).
+PetscErrorCode volumeEnergyRatio(fem::Discretization &disc, Vec x, double *ratio) {
+  Vec local;
+  PetscReal full = 0.0, shape = 0.0;
+  PetscFunctionBeginUser;
+  *ratio = 0.0;
+  if (!disc.suspendVolumeTerms(true)) PetscFunctionReturn(0);  // no volume term (nu = 0): nothing evaluated
+  PetscCall(DMGetLocalVector(disc.dm(), &local));
+  PetscCall(VecSet(local, 0.0));
+  PetscCall(DMGlobalToLocal(disc.dm(), x, INSERT_VALUES, local));
+  PetscCall(disc.fillBoundary(local));
+  const PetscErrorCode ierr = disc.diagnostics().elasticEnergy(local, &shape);
+  disc.suspendVolumeTerms(false);
+  PetscCall(ierr);
+  PetscCall(disc.diagnostics().elasticEnergy(local, &full));
+  PetscCall(DMRestoreLocalVector(disc.dm(), &local));
+  *ratio = (full - shape) / std::max(shape, 1e-300);
+  PetscFunctionReturn(0);
+}
+
+}  // namespace
+
+PetscErrorCode solveShapeFirst(fem::Discretization &disc, NewtonSolver &newton, Vec x, double minRatio,
+                               NewtonResult *acc, bool *ran) {
+  bool fixes = false;
+  PetscFunctionBeginUser;
+  *ran = false;
+  if (minRatio > 0.0) {
+    double ratio = 0.0;
+    PetscCall(volumeEnergyRatio(disc, x, &ratio));  // the same number on every rank (reduced energies)
+    if (!(ratio > minRatio)) PetscFunctionReturn(0);
+  }
+  PetscCall(disc.stretchTermsFixShape(&fixes));
+  if (!fixes || !disc.suspendVolumeTerms(true)) PetscFunctionReturn(0);
+  Vec start;
+  PetscCall(VecDuplicate(x, &start));
+  PetscCall(VecCopy(x, start));
+  NewtonResult stage;
+  const PetscErrorCode ierr = newton.solve(x, &stage);
+  disc.suspendVolumeTerms(false);  // before any error returns: the materials are the read ones again
+  PetscCall(ierr);
+  *acc += stage;
+  *ran = true;
+  if (!stage.converged()) PetscCall(VecCopy(start, x));  // the full solve starts from the start it would have had
+  PetscCall(VecDestroy(&start));
+  PetscFunctionReturn(0);
+}
+
+}  // namespace aries::solver
