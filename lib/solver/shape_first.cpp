@@ -1,7 +1,8 @@
 // Solving a degenerate start's stretch terms before its volume terms (the shape stage), shared by the static
-// detached start (detached_start.cpp: always, on the detached body) and by backward Euler steps whose start holds
-// far more volume-term energy than other elastic energy (Simulation::advance, -beuler_shape_first X: a scrambled
-// body, where the ratio is in the thousands; a moving body's steps, rest or inverted starts stay near or below 1).
+// detached start (detached_start.cpp: always, on the detached body) and by the first backward Euler step from a
+// synthetic start that holds far more volume-term energy than other elastic energy (Simulation::advance,
+// -beuler_shape_first X: a scrambled body, where a cell stretched by s holds volume energy ~ lambda s^6 against
+// ~ mu s^2; not an inside-out start, J = -1 without stretch, where the ratio is of the order of lambda / mu).
 //
 // Why: a scrambled cell is stretched by about L / h, so J grows like the cube of the stretch and the volume term
 // lambda/2 (J - J0)^2 like its sixth power, with a Hessian lambda cof F (x) cof F + lambda (J - J0) d2J whose

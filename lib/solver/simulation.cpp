@@ -86,6 +86,7 @@ PetscErrorCode Simulation::setup(fem::Discretization &disc, const SimulationOpti
   start.dt = dynamic ? opts.dt : 0.0;
   PetscCall(disc.setStep(start));
   PetscCall(applyInitialState());
+  syntheticStart_ = opts_.initial != InitialState::Rest && opts_.initial != InitialState::Tutte;
   PetscCall(PetscLogStageGetId("solve", &solveStage_));
   if (solveStage_ < 0) PetscCall(PetscLogStageRegister("solve", &solveStage_));
   PetscCall(setupCoarseLevels());
@@ -176,6 +177,7 @@ PetscErrorCode Simulation::resume(const std::vector<double> &positions, const st
   resumed.time = time;
   PetscCall(disc_->setStep(resumed));
   completedSteps_ = completedStep;
+  syntheticStart_ = false;
   time_ = time;
   newton_.restore(memory);
   PetscFunctionReturn(0);
@@ -340,7 +342,9 @@ PetscErrorCode Simulation::advance(double dt, double loadTarget, int depth, Newt
     acc->barrierFallbackCells = std::max(acc->barrierFallbackCells, fallback);
     acc->barrierActiveCells = std::max(acc->barrierActiveCells, active);
   }
-  if (dynamic && opts_.beulerShapeFirst > 0.0) {  // a start dominated by volume terms: the stretch terms first
+  // A synthetic start dominated by volume terms: the stretch terms first (shape_first.cpp). Later steps start from a
+  // converged state moved by one step of inertia-limited motion and are not checked (two energy evaluations a step).
+  if (dynamic && syntheticStart_ && opts_.beulerShapeFirst > 0.0) {
     bool ran = false;
     PetscCall(PetscLogStagePush(solveStage_));
     PetscCall(solveShapeFirst(*disc_, newton_, x_, opts_.beulerShapeFirst, acc, &ran));
@@ -348,6 +352,7 @@ PetscErrorCode Simulation::advance(double dt, double loadTarget, int depth, Newt
   }
   PetscCall(solveToLoad(loadTarget, acc, ok, reason));
   if (*ok) {
+    syntheticStart_ = false;
     if (dynamic) {
       PetscCall(VecWAXPY(v_, -1.0, xPrev_, x_));
       PetscCall(VecScale(v_, 1.0 / dt));

@@ -39,7 +39,7 @@ struct SimulationOptions {
   bool predictorStart = false;  // -predictor_start (backward Euler; on by default there)
   bool detachedStart = false;   // -static_detached_start (static runs from a synthetic start; on by default there)
   bool detachedShapeFirst = true;  // -static_detached_shape_first: the detached relaxation starts without volume terms
-  double beulerShapeFirst = 0.0;   // -beuler_shape_first: a backward Euler step dominated by volume terms, likewise
+  double beulerShapeFirst = 0.0;   // -beuler_shape_first: backward Euler from a start dominated by volume terms, likewise
   std::vector<std::string> coarseMeshes;  // -coarse_mesh, finest first (nested_start.cpp)
   PetscInt coarseSteps = 1;                // -coarse_steps: the first N steps start from the coarse levels (-1: all)
   NewtonOptions newton;            // the Newton solver's (newton_options.hpp); the detached start's own are read
@@ -145,6 +145,7 @@ class Simulation {
   PetscInt loadSubsteps_ = 0;
   int level_ = 0;                         // 0: the mesh of the run; k: the k-th -coarse_mesh
   PetscInt currentStep_ = 0;              // the step being solved
+  bool syntheticStart_ = false;           // the state is still the synthetic initial one (scramble, invert, collapse)
   std::unique_ptr<CoarseLevel> coarse_;   // the next coarser level, if any
   NewtonResult coarseWork_;               // the current step's solves on the coarser levels
   int coarseStart_ = -1;                  // and whether their solution started this level's (StepReport)

@@ -50,9 +50,9 @@ inline constexpr OptionDecl predictorStart =
         .byDefault("true");
 inline constexpr OptionDecl beulerShapeFirst =
     realOption("-beuler_shape_first", "X",
-               "beuler: a step whose start holds more than X times as much volume-term energy as other elastic energy "
-               "(a scrambled body) first solves without the volume terms, then with the full energy; only where the "
-               "stretch terms alone fix every cell's shape; 0: never (see The shape stage below)")
+               "beuler from scramble, invert or collapse starts: step 1 first solves without the volume terms where "
+               "the start holds over X times as much volume-term as other elastic energy and the stretch terms fix "
+               "the shape; 0: never (see The shape stage below)")
         .byDefault("10")
         .atLeast(0);
 inline constexpr OptionDecl onFailure =
