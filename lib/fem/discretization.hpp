@@ -117,6 +117,12 @@ class Discretization {
   PetscInt numBoundaryVerticesGlobal() const { return numBcGlobal_; }
   double restMeasureGlobal() const { return restMeasure_; }
   const energies::Material &material(int region = 0) const { return materials_[region]; }
+  // Whether some material has fiber terms (energies::energyUsesFibers: alx, fiber, kim_aa, the cloth fibers, ...).
+  bool anyFiberTerms() const {
+    for (const energies::Material &m : materials_)
+      if (energies::energyUsesFibers(m.kind)) return true;
+    return false;
+  }
   // Turns the volume terms lambda/2 (J - J0)^2 of every material off (true) or back to their read values (false).
   // Returns whether the energy changed (some material has a volume term with lambda != 0).
   bool suspendVolumeTerms(bool suspend);

@@ -51,8 +51,8 @@ inline constexpr OptionDecl predictorStart =
 inline constexpr OptionDecl beulerShapeFirst =
     realOption("-beuler_shape_first", "X",
                "beuler from scramble, invert or collapse starts: step 1 first solves without the volume terms where "
-               "the start holds over X times as much volume-term as other elastic energy and the stretch terms fix "
-               "the shape; 0: never (see The shape stage below)")
+               "the start holds over X times as much volume-term as other elastic energy (no fiber terms); 0: never "
+               "(see The shape stage below)")
         .byDefault("10")
         .atLeast(0);
 inline constexpr OptionDecl onFailure =
