@@ -221,8 +221,8 @@ py::dict evaluateShape(const std::string &energy, const double *F, py::ssize_t n
       slot[static_cast<size_t>(i)] = it->second;
     }
   }
-  const bool hasI4 = energies::energyUsesFibers(materials.front().material.kind);
-  const bool hasI6 = hasI4 && R == 3 && C == 2;
+  const bool hasI4 = energies::reportsI4(materials.front().material.kind);
+  const bool hasI6 = energies::reportsI6<R, C>(materials.front().material.kind);
 
   py::array_t<double> value(n), alpha(n), f(n), I4(hasI4 ? n : 0), I6(hasI6 ? n : 0);
   py::array_t<double> pk1({n, static_cast<py::ssize_t>(R), static_cast<py::ssize_t>(C)});

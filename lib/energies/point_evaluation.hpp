@@ -20,6 +20,13 @@ struct PointEvaluation {
   bool hasI4 = false, hasI6 = false;  // I4: energies that read fibers; I6: those on cloth (3x2) elements too
 };
 
+// Which invariants a point reports: I4 where the energy reads fibers, I6 where it does on cloth (3x2) elements.
+inline bool reportsI4(EnergyKind kind) { return energyUsesFibers(kind); }
+template <int R, int C>
+inline bool reportsI6(EnergyKind kind) {
+  return reportsI4(kind) && R == 3 && C == 2;
+}
+
 // `filter` nullptr: `projected` is the unfiltered Hessian. `rawHessian` false (with a filter): one pass gives the
 // value, PK1 and the filtered Hessian, and derivs.hess is the filtered one too (half the work where only the
 // projected Hessian is wanted).
@@ -37,8 +44,8 @@ inline PointEvaluation<R, C> evaluatePoint(const Material &m, const CellData<C> 
   const kernels::RootValue root = kernels::rootValue(F);
   p.f = root.f;
   p.alpha = root.alpha;
-  p.hasI4 = energyUsesFibers(m.kind);
-  p.hasI6 = p.hasI4 && R == 3 && C == 2;
+  p.hasI4 = reportsI4(m.kind);
+  p.hasI6 = reportsI6<R, C>(m.kind);
   if (p.hasI4 || p.hasI6) {
     const auto ctx = kernels::makeRootContext<R, C>(F, kernels::Order::Value);
     if (p.hasI4) p.I4 = kernels::stretchInvariantValue<R, C>(ctx, kernels::fiberTensor<C>(cell.a));

@@ -44,10 +44,9 @@ PetscErrorCode volumeEnergyRatio(fem::Discretization &disc, Vec x, double *ratio
 }  // namespace
 
 PetscErrorCode solveShapeFirst(fem::Discretization &disc, NewtonSolver &newton, Vec x, double minRatio,
-                               NewtonResult *acc, bool *ran) {
+                               NewtonResult *acc) {
   bool fixes = false;
   PetscFunctionBeginUser;
-  *ran = false;
   if (minRatio > 0.0) {
     double ratio = 0.0;
     PetscCall(volumeEnergyRatio(disc, x, &ratio));  // the same number on every rank (reduced energies)
@@ -63,7 +62,6 @@ PetscErrorCode solveShapeFirst(fem::Discretization &disc, NewtonSolver &newton, 
   disc.suspendVolumeTerms(false);  // before any error returns: the materials are the read ones again
   PetscCall(ierr);
   *acc += stage;
-  *ran = true;
   if (!stage.converged()) PetscCall(VecCopy(start, x));  // the full solve starts from the start it would have had
   PetscCall(VecDestroy(&start));
   PetscFunctionReturn(0);

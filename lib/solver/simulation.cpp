@@ -347,9 +347,8 @@ PetscErrorCode Simulation::advance(double dt, double loadTarget, int depth, Newt
   // Not with fiber terms: there the stage did not help (fiber along x at nu 0.3: 220 updates against 126, the same
   // time) or hurt (an oblique fiber: step 1 past 240 s against 54 s for two steps; bench/degenerate_starts.py).
   if (dynamic && syntheticStart_ && opts_.beulerShapeFirst > 0.0 && !disc_->anyFiberTerms()) {
-    bool ran = false;
     PetscCall(PetscLogStagePush(solveStage_));
-    PetscCall(solveShapeFirst(*disc_, newton_, x_, opts_.beulerShapeFirst, acc, &ran));
+    PetscCall(solveShapeFirst(*disc_, newton_, x_, opts_.beulerShapeFirst, acc));
     PetscCall(PetscLogStagePop());
   }
   PetscCall(solveToLoad(loadTarget, acc, ok, reason));

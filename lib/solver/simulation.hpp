@@ -48,9 +48,9 @@ struct SimulationOptions {
 
 // The shape stage (shape_first.cpp): where the materials' stretch terms alone fix every cell's shape and some material
 // has a volume term, and the volume terms' energy at x exceeds `minRatio` times the other elastic energy (0: always),
-// solves from x with the volume terms suspended (x is restored if that solve fails); *ran: it did. Collective.
+// solves from x with the volume terms suspended (x is restored if that solve fails). Collective.
 PetscErrorCode solveShapeFirst(fem::Discretization &disc, NewtonSolver &newton, Vec x, double minRatio,
-                               NewtonResult *acc, bool *ran);
+                               NewtonResult *acc);
 
 // Reads every option of the solver layer (the Newton solver's too) into plain data before anything is set up.
 PetscErrorCode readSimulationOptions(SimulationOptions *opts);
