@@ -48,10 +48,8 @@ PetscErrorCode DiscretizationT<R, C, NV>::setupCellData(Mesh &mesh, const FemOpt
   PetscFunctionReturn(0);
 }
 
-template class DiscretizationT<3, 3>;
-template class DiscretizationT<2, 2>;
-template class DiscretizationT<3, 2>;
-template class DiscretizationT<3, 3, 8>;
-template class DiscretizationT<3, 3, 10>;
+#define ARIES_INSTANTIATE(E) template class DiscretizationT<E::R, E::C, E::NV>;
+ARIES_ELEMENT_TYPES(ARIES_INSTANTIATE)
+#undef ARIES_INSTANTIATE
 
 }  // namespace aries::fem

@@ -318,8 +318,8 @@ void DiscretizationT<R, C, NV>::ownedTopology(std::vector<PetscInt> *cellsOut) c
   for (size_t c = 0; c < cells_.size(); ++c) {
     const Cell &cell = cells_.cells()[c];
     if (!cell.owned) continue;
-    for (int v = 0; v < NV; ++v)  // hexahedra in VTK/XDMF order
-      cellsOut->push_back(mesh_->naturalVertex[cell.vertex[NV == 8 ? kernels::hex8::kVtkFromClosure[v] : v]]);
+    for (int v = 0; v < NV; ++v)  // in the order of the element type's output topology
+      cellsOut->push_back(mesh_->naturalVertex[cell.vertex[Element::outputNode(v)]]);
   }
 }
 
@@ -363,10 +363,8 @@ PetscErrorCode DiscretizationT<R, C, NV>::stretchTermsFixShape(bool *fixes) cons
   PetscFunctionReturn(0);
 }
 
-template class DiscretizationT<3, 3>;
-template class DiscretizationT<2, 2>;
-template class DiscretizationT<3, 2>;
-template class DiscretizationT<3, 3, 8>;
-template class DiscretizationT<3, 3, 10>;
+#define ARIES_INSTANTIATE(E) template class DiscretizationT<E::R, E::C, E::NV>;
+ARIES_ELEMENT_TYPES(ARIES_INSTANTIATE)
+#undef ARIES_INSTANTIATE
 
 }  // namespace aries::fem

@@ -8,9 +8,6 @@
 
 namespace aries::fem {
 
-
-using energies::ElementShape;
-
 double Discretization::characteristicModulus() const {
   double m = 0.0;
   for (const auto &mat : materials_)
@@ -18,12 +15,12 @@ double Discretization::characteristicModulus() const {
   return m > 0.0 ? m : 1.0;
 }
 
-// What hexahedral and quadratic meshes do not have yet: the caricature field (its curvature comes from the linear tet
-// mesh's boundary triangles). One line naming the option, before any work.
+// What elements other than linear simplices do not have yet: the caricature field (its curvature comes from the linear
+// tet mesh's boundary triangles). One line naming the option, before any work.
 template <int R, int C, int NV>
 PetscErrorCode DiscretizationT<R, C, NV>::refuseOnPointRules(const Mesh &mesh, const FemOptions &o) const {
   PetscFunctionBeginUser;
-  const char *has = NV == 8 ? "has hexahedra" : "has quadratic tetrahedra (-element p2)";
+  const char *has = Element::kMeshHas;
   for (const MaterialOptions &m : o.materials)
     if (energies::energyCellField(m.material.kind) == energies::CellField::SurfaceCurvature)
       SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
@@ -37,7 +34,7 @@ PetscErrorCode DiscretizationT<R, C, NV>::setup(Mesh &mesh, const FemOptions &o,
   PetscFunctionBeginUser;
   mesh_ = &mesh;
   dofs_ = R;
-  if constexpr (NV != C + 1) PetscCall(refuseOnPointRules(mesh, o));
+  if constexpr (!Element::kLinearSimplex) PetscCall(refuseOnPointRules(mesh, o));
   std::vector<UniformCellData> regionCells;
   std::vector<std::pair<DMLabel, PetscInt>> regionLabels;  // (label, value) marking each region's cells
   for (const MaterialOptions &m : o.materials) {
@@ -154,8 +151,8 @@ PetscErrorCode DiscretizationT<R, C, NV>::setupTerms(Mesh &mesh, const FemOption
     PetscCall(loads_->setup(mesh, o.loads));
     loads_->setLoad(step_.load);
     if (!loads_->empty()) terms_.push_back(loads_.get());
-    if constexpr (R == 3 && C == 3) {
-      pressure_ = std::make_unique<FollowerPressure<PressureFaceOf<NV>>>(verts_);
+    if constexpr (!std::is_void_v<typename Element::Face>) {  // a volume element: pressure on its faces
+      pressure_ = std::make_unique<FollowerPressure<PressureFaceOf<Element>>>(verts_);
       PetscCall(pressure_->setup(mesh, o.loads));
       pressure_->setLoad(step_.load);
       if (!pressure_->empty()) terms_.push_back(pressure_.get());
@@ -262,11 +259,9 @@ void DiscretizationT<R, C, NV>::ownedSupportedVertices(std::vector<PetscInt> *lo
     if (verts_[v].owned && verts_[v].bcSet >= 0 && verts_[v].numFree == 0) local->push_back(static_cast<PetscInt>(v));
 }
 
-template class DiscretizationT<3, 3>;
-template class DiscretizationT<2, 2>;
-template class DiscretizationT<3, 2>;
-template class DiscretizationT<3, 3, 8>;
-template class DiscretizationT<3, 3, 10>;
+#define ARIES_INSTANTIATE(E) template class DiscretizationT<E::R, E::C, E::NV>;
+ARIES_ELEMENT_TYPES(ARIES_INSTANTIATE)
+#undef ARIES_INSTANTIATE
 
 bool Discretization::suspendVolumeTerms(bool suspend) {
   bool changed = false;
@@ -289,39 +284,21 @@ bool Discretization::suspendVolumeTerms(bool suspend) {
   return changed;
 }
 
+// The registered element type that runs on the mesh (fem/element_types.hpp): exactly one fits each mesh kind the
+// loader accepts.
 PetscErrorCode Discretization::create(Mesh &mesh, const FemOptions &options, double dt,
                                       std::unique_ptr<Discretization> *out) {
   PetscFunctionBeginUser;
-  switch (mesh.shape) {
-    case ElementShape::Tet: {
-      if (mesh.hexahedra) {
-        auto d = std::make_unique<DiscretizationT<3, 3, 8>>();
-        PetscCall(d->setup(mesh, options, dt));
-        *out = std::move(d);
-      } else if (mesh.quadratic) {
-        auto d = std::make_unique<DiscretizationT<3, 3, 10>>();
-        PetscCall(d->setup(mesh, options, dt));
-        *out = std::move(d);
-      } else {
-        auto d = std::make_unique<DiscretizationT<3, 3>>();
-        PetscCall(d->setup(mesh, options, dt));
-        *out = std::move(d);
-      }
-      break;
-    }
-    case ElementShape::Planar: {
-      auto d = std::make_unique<DiscretizationT<2, 2>>();
-      PetscCall(d->setup(mesh, options, dt));
-      *out = std::move(d);
-      break;
-    }
-    case ElementShape::Cloth: {
-      auto d = std::make_unique<DiscretizationT<3, 2>>();
-      PetscCall(d->setup(mesh, options, dt));
-      *out = std::move(d);
-      break;
-    }
+  out->reset();
+#define ARIES_CREATE_IF_FITS(E)                                         \
+  if (!*out && elementFitsMesh<E>(mesh)) {                              \
+    auto d = std::make_unique<DiscretizationT<E::R, E::C, E::NV>>();    \
+    PetscCall(d->setup(mesh, options, dt));                             \
+    *out = std::move(d);                                                \
   }
+  ARIES_ELEMENT_TYPES(ARIES_CREATE_IF_FITS)
+#undef ARIES_CREATE_IF_FITS
+  PetscCheck(*out, PETSC_COMM_SELF, PETSC_ERR_SUP, "mesh '%s': no element type runs on its cells", mesh.filename.c_str());
   PetscFunctionReturn(0);
 }
 

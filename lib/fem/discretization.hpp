@@ -193,7 +193,8 @@ class Discretization {
   // mollifier) with 0 < alpha < the barrier's eps (collective count).
   virtual PetscErrorCode barrierActiveCells(Vec xLocal, PetscInt *count) const = 0;
 
-  virtual PetscInt verticesPerCell() const = 0;  // 4 (tet), 3 (triangle), 8 (hexahedron)
+  virtual PetscInt verticesPerCell() const = 0;  // nodes per element: 4 (tet), 3 (triangle), 8 (hexahedron), 10 (P2)
+  virtual const char *outputTopology() const = 0;  // the element type's XDMF TopologyType
   virtual int shapeCols() const = 0;
   virtual const DiagnosticsView &diagnostics() const = 0;
   virtual const Kinematics &kinematics() const = 0;

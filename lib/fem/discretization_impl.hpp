@@ -9,6 +9,7 @@
 #pragma once
 
 #include "fem/discretization.hpp"
+#include "fem/element_types.hpp"
 #include "fem/material_options.hpp"
 #include "fem/cell_fields.hpp"
 #include "fem/terms/bending_hinges.hpp"
@@ -25,11 +26,12 @@
 namespace aries::fem {
 
 
-// NV: nodes per cell (C + 1: linear simplices; 8: trilinear hexahedra, DiscretizationT<3, 3, 8>; 10: quadratic
-// tetrahedra, DiscretizationT<3, 3, 10>).
+// One instance per element type (fem/element_types.hpp), named by the shape of its F (R x C) and its nodes per element
+// NV (C + 1: linear simplices; 8: trilinear hexahedra; 10: quadratic tetrahedra).
 template <int R, int C, int NV = C + 1>
 class DiscretizationT final : public Discretization, public DiagnosticsView, public Kinematics {
  public:
+  using Element = kernels::ElementOf<R, C, NV>;  // the element type (kernels/elements/, fem/element_types.hpp)
   using Cells = ElasticCells<R, C, NV>;
   using Cell = typename Cells::Cell;
   static constexpr int NQ = Cells::NQ;
@@ -64,6 +66,7 @@ class DiscretizationT final : public Discretization, public DiagnosticsView, pub
   PetscErrorCode cellFibers(std::vector<double> *fibers) const override;
   int shapeCols() const override { return C; }
   PetscInt verticesPerCell() const override { return NV; }
+  const char *outputTopology() const override { return Element::kXdmfTopology; }
   const DiagnosticsView &diagnostics() const override { return *this; }
   const Kinematics &kinematics() const override { return *this; }
   void forEachOwnedFreeVertex(
@@ -88,10 +91,6 @@ class DiscretizationT final : public Discretization, public DiagnosticsView, pub
   PetscErrorCode layoutDofs(const Mesh &mesh, const std::vector<Eigen::Vector3d> &rest,
                             const std::vector<PetscInt> &bcFlag);                                // dof_layout.cpp
   PetscErrorCode setupRestCells(const Mesh &mesh, const std::vector<std::pair<DMLabel, PetscInt>> &regionLabels);
-  double simplexRest(Cell *cell, PetscInt spaceDim) const;                                       // rest_geometry
-  double quadratureRest(Cell *cell) const;                                                       // rest_geometry
-  double lumpedShare(const Cell &cell, int v) const;                                             // rest_geometry
-  double consistentShare(const Cell &cell, int v) const;                                         // rest_geometry
   PetscErrorCode checkRestCells(const Mesh &mesh, const std::vector<double> &signedMeasure) const;  // rest_geometry
   PetscErrorCode setupCellData(Mesh &mesh, const FemOptions &o, const std::vector<UniformCellData> &regionCells,
                                bool regions);                                                    // cell_data.cpp
@@ -115,7 +114,7 @@ class DiscretizationT final : public Discretization, public DiagnosticsView, pub
   std::unique_ptr<ObstacleContact> contact_;       // -obstacle_plane / -obstacle_sphere (3D)
   std::unique_ptr<InertiaGravity<R>> inertia_;     // backward Euler and -gravity
   std::unique_ptr<SurfaceLoads<R>> loads_;         // -load_traction_<set>, -load_force_<set>
-  std::unique_ptr<FollowerPressure<PressureFaceOf<NV>>> pressure_;  // -load_pressure_<set> (volume meshes)
+  std::unique_ptr<FollowerPressure<PressureFaceOf<Element>>> pressure_;  // -load_pressure_<set> (volume meshes)
   std::vector<const Term *> terms_;                // the active terms, in assembly order
   bool stashSized_ = false;  // the off-rank assembly buffer sized before the first Hessian assembly
 };

@@ -135,8 +135,8 @@ PetscErrorCode RunOutput::setup(const OutputOptions &opts, const CheckpointOptio
     std::vector<double> rest;
     disc.diagnostics().ownedTopology(&cells);
     disc.diagnostics().ownedRestPositions(&rest);
-    PetscCall(writer_.open(comm_, opts.output, vertexBlocks_, cellBlocks_, cells, disc.verticesPerCell(), rest,
-                           resumeAfterStep));
+    PetscCall(writer_.open(comm_, opts.output, vertexBlocks_, cellBlocks_, cells, disc.verticesPerCell(),
+                           disc.outputTopology(), rest, resumeAfterStep));
   }
   PetscCall(PetscLogStageGetId("output", &outputStage_));
   if (outputStage_ < 0) PetscCall(PetscLogStageRegister("output", &outputStage_));

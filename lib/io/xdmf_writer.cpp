@@ -27,7 +27,8 @@ std::string stepFileName(const std::string &name, PetscInt step) {
 
 PetscErrorCode XdmfWriter::open(MPI_Comm comm, const std::string &base, const core::NaturalBlocks &vertices,
                                 const core::NaturalBlocks &cells, const std::vector<PetscInt> &topology,
-                                int verticesPerCell, const std::vector<double> &rest, PetscInt resumeAfterStep) {
+                                int verticesPerCell, const char *topologyType, const std::vector<double> &rest,
+                                PetscInt resumeAfterStep) {
   PetscMPIInt rank;
   PetscFunctionBeginUser;
   comm_ = comm;
@@ -44,6 +45,7 @@ PetscErrorCode XdmfWriter::open(MPI_Comm comm, const std::string &base, const co
   numVertices_ = vertices.total();
   numCells_ = cells.total();
   verticesPerCell_ = verticesPerCell;
+  topologyType_ = topologyType;
   std::vector<double> topologyOwned(topology.begin(), topology.end()), topologyBlock;  // ids exact as doubles
   PetscCall(cells.toBlocks(topologyOwned, verticesPerCell, &topologyBlock));
   PetscCall(vertices.toBlocks(rest, 3, &restBlock_));
@@ -131,10 +133,7 @@ PetscErrorCode XdmfWriter::endStep() {
 
 PetscErrorCode XdmfWriter::writeXmf() {
   PetscFunctionBeginUser;
-  const char *topo = verticesPerCell_ == 10 ? "Tetrahedron_10"
-                     : verticesPerCell_ == 8 ? "Hexahedron"
-                     : verticesPerCell_ == 4 ? "Tetrahedron"
-                                             : "Triangle";
+  const char *topo = topologyType_.c_str();
   std::ostringstream x;
   x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n"
     << "<Grid Name=\"aries\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";

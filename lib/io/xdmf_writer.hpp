@@ -29,12 +29,12 @@ struct CellField {  // a cell or vertex field
 class XdmfWriter {
  public:
   // Collective. `vertices` and `cells` (kept by reference, they must outlive the writer) say which natural ids this
-  // rank's values are for; `cells` holds the natural vertex ids of this rank's owned cells (`verticesPerCell` each)
-  // and `rest` its owned vertices' rest positions (x3). With resumeAfterStep >= 0 (restart) the existing step files up
+  // rank's values are for; `cells` holds the natural vertex ids of this rank's owned cells (`verticesPerCell` each,
+  // in the order of the XDMF `topologyType`) and `rest` its owned vertices' rest positions (x3). With resumeAfterStep >= 0 (restart) the existing step files up
   // to that step stay in the index.
   PetscErrorCode open(MPI_Comm comm, const std::string &base, const core::NaturalBlocks &vertices,
                       const core::NaturalBlocks &cells, const std::vector<PetscInt> &topology, int verticesPerCell,
-                      const std::vector<double> &rest, PetscInt resumeAfterStep = -1);
+                      const char *topologyType, const std::vector<double> &rest, PetscInt resumeAfterStep = -1);
   // One output step, written field by field so that a rank holds one field at a time: beginStep creates the step file
   // with `positions` (x3, this rank's owned vertices) and the displacement, writeField adds a cell or vertex field
   // (values on this rank's owned cells or vertices), endStep completes the file and the index. All collective.
@@ -57,6 +57,7 @@ class XdmfWriter {
   const core::NaturalBlocks *vertices_ = nullptr, *cells_ = nullptr;
   PetscInt numCells_ = 0, numVertices_ = 0;
   int verticesPerCell_ = 4;
+  std::string topologyType_;  // XDMF TopologyType: the element type's (kernels/elements/)
   std::vector<double> restBlock_;  // this rank's block of the rest positions (the displacement's reference)
   std::vector<StepEntry> steps_;
   std::vector<std::pair<std::string, int>> cellFieldLayout_, vertexFieldLayout_;

@@ -9,7 +9,7 @@
 #include "core/errors.hpp"
 #include "core/options.hpp"
 #include "mesh/mesh_options.hpp"
-#include "kernels/element_rules.hpp"
+#include "kernels/elements/tet10.hpp"
 
 #include <petscdmplextransform.h>
 #include <petscsf.h>

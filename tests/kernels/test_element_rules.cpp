@@ -6,6 +6,9 @@
 // linear tetrahedron (one point) and the quadratic tetrahedron (tet10, 4 points; its rest data too) are checked the
 // same way.
 #include "kernels/element_rules.hpp"
+#include "kernels/elements/hex8.hpp"
+#include "kernels/elements/simplex.hpp"
+#include "kernels/elements/tet10.hpp"
 #include "test_support.hpp"
 
 namespace aries::test {
@@ -201,6 +204,80 @@ TEST(ElementRules, TetrahedronEnergyMatchesFiniteDifferences) {
   rest.weight[0] = Dm.determinant() / 6.0;
   checkElement<4, 1>("tet4", X, rest);
 }
+
+// The element-type contract (kernels/elements/element_type.hpp), the same checks for every type: at a valid rest cell the
+// signed measure is positive and the weights sum to it, sum_v W_q(v) = 0 and F = I at rest (F^T F = I for a triangle
+// in 3D), the lumped and consistent shares sum to the measure (lumped ones positive), the output order is a
+// permutation; the mirrored cell is inverted (negative measure, the same positive weights); a flat cell is degenerate.
+template <class E>
+Mat<E::NV, 3> validRest(Rng &rng) {
+  if constexpr (E::NV == 8) {
+    return warpedHex(rng, 0.1);
+  } else if constexpr (E::NV == 10) {
+    return straightTet10(rng, 0.1);
+  } else {
+    Mat<E::NV, 3> X = Mat<E::NV, 3>::Zero();
+    for (int k = 1; k < E::NV; ++k) X(k, k - 1) = 1.0;
+    for (int k = 0; k < E::NV; ++k) X.row(k).template head<E::C>() += 0.1 * rng.gaussMat<1, E::C>();
+    if constexpr (E::R == 3 && E::C == 2) {  // a cloth triangle tilted out of the xy plane
+      const Mat<3, 3> turn = Eigen::AngleAxisd(0.7, Vec<3>(1, 2, 0.5).normalized()).toRotationMatrix();
+      X = (X * turn.transpose()).eval();
+    }
+    return X;
+  }
+}
+
+template <class E>
+void checkElementTypeContract() {
+  Rng rng(11);
+  for (int trial = 0; trial < 5; ++trial) {
+    const Mat<E::NV, 3> X = validRest<E>(rng);
+    std::array<Mat<E::NV, E::C>, E::NQ> W;
+    std::array<double, E::NQ> w;
+    double measure = 0.0;
+    const double signedMeasure = E::rest(X, E::R == 3 && E::C == 2, &W, &w, &measure);
+    ASSERT_GT(signedMeasure, 0.0) << E::kName;
+    EXPECT_NEAR(signedMeasure, measure, 1e-14);
+    double sum = 0.0, lumped = 0.0, consistent = 0.0;
+    for (int q = 0; q < E::NQ; ++q) {
+      sum += w[q];
+      EXPECT_GT(w[q], 0.0);
+      EXPECT_LT(W[q].colwise().sum().norm(), 1e-12) << E::kName;
+      const Mat<E::R, E::C> F = X.template leftCols<E::R>().transpose() * W[q];
+      EXPECT_LT((F.transpose() * F - Mat<E::C, E::C>::Identity()).norm(), 1e-12) << E::kName;
+    }
+    EXPECT_NEAR(sum, measure, 1e-13 * measure);
+    for (int v = 0; v < E::NV; ++v) {
+      EXPECT_GT(E::lumpedShare(measure, w, v), 0.0);
+      lumped += E::lumpedShare(measure, w, v);
+      consistent += E::consistentShare(measure, w, v);
+    }
+    EXPECT_NEAR(lumped, measure, 1e-13 * measure) << E::kName;
+    EXPECT_NEAR(consistent, measure, 1e-13 * measure) << E::kName;
+    Mat<E::NV, 3> mirrored = X;
+    mirrored.col(0) *= -1.0;
+    std::array<double, E::NQ> wm;
+    double measureMirrored = 0.0;
+    if constexpr (!(E::R == 3 && E::C == 2)) {  // a triangle in 3D has no inside-out: its frame follows its normal
+      EXPECT_NEAR(E::rest(mirrored, false, &W, &wm, &measureMirrored), -measure, 1e-13 * measure) << E::kName;
+      for (int q = 0; q < E::NQ; ++q) EXPECT_NEAR(wm[q], w[q], 1e-13 * measure);
+    }
+    Mat<E::NV, 3> flat = X;
+    flat.col(E::C - 1).setZero();
+    if constexpr (E::R == 3 && E::C == 2) flat.col(2).setZero();  // a triangle in 3D: its vertices on the x axis
+    EXPECT_NEAR(E::rest(flat, E::R == 3 && E::C == 2, &W, &wm, &measureMirrored), 0.0, 1e-14) << E::kName;
+  }
+  std::array<bool, E::NV> seen{};
+  for (int k = 0; k < E::NV; ++k) seen[E::outputNode(k)] = true;
+  for (bool b : seen) EXPECT_TRUE(b) << E::kName << ": the output order is no permutation";
+  EXPECT_TRUE((std::is_same_v<ElementOf<E::R, E::C, E::NV>, E>)) << E::kName;
+}
+
+TEST(ElementTypes, PlanarTriangleContract) { checkElementTypeContract<Tri3Planar>(); }
+TEST(ElementTypes, ClothTriangleContract) { checkElementTypeContract<Tri3Cloth>(); }
+TEST(ElementTypes, LinearTetrahedronContract) { checkElementTypeContract<Tet4>(); }
+TEST(ElementTypes, HexahedronContract) { checkElementTypeContract<Hex8>(); }
+TEST(ElementTypes, QuadraticTetrahedronContract) { checkElementTypeContract<Tet10>(); }
 
 }  // namespace
 }  // namespace aries::test

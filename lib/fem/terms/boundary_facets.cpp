@@ -1,6 +1,6 @@
 #include "fem/terms/boundary_facets.hpp"
 
-#include "kernels/element_rules.hpp"
+#include "kernels/elements/tet10.hpp"
 
 #include <algorithm>
 #include <map>

@@ -106,10 +106,8 @@ PetscInt ElasticCells<R, C, NV>::updateBarrierFallback(const std::vector<double>
   return count;
 }
 
-template class ElasticCells<3, 3>;
-template class ElasticCells<2, 2>;
-template class ElasticCells<3, 2>;
-template class ElasticCells<3, 3, 8>;
-template class ElasticCells<3, 3, 10>;
+#define ARIES_INSTANTIATE(E) template class ElasticCells<E::R, E::C, E::NV>;
+ARIES_ELEMENT_TYPES(ARIES_INSTANTIATE)
+#undef ARIES_INSTANTIATE
 
 }  // namespace aries::fem

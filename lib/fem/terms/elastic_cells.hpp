@@ -1,5 +1,5 @@
 // The elastic energy of the cells: sum over owned cells and their quadrature points q of w_q Psi(F_q), F_q = sum_v x_v
-// W_q.row(v) (kernels/element_rules.hpp), with the material of the cell's region (energies/energy.hpp): one point for
+// W_q.row(v) (kernels/element_rules.hpp; W_q and w_q from the element type, kernels/elements/), with the material of the cell's region (energies/energy.hpp): one point for
 // linear simplices (W = [-1^T Dm^-1; Dm^-1], w = the rest measure), 2x2x2 Gauss points for trilinear hexahedra, 4
 // points for quadratic tetrahedra (whose 10 nodes are vertices of the refined mesh, mesh/mesh_quadratic.cpp). The
 // Hessian is eigenvalue-filtered per point. Owns the per-cell rest data (vertices, W_q, w_q, measure, region) and the
@@ -9,6 +9,7 @@
 
 #include "fem/terms/term.hpp"
 #include "fem/vertex_layout.hpp"
+#include "fem/element_types.hpp"
 #include "kernels/element_rules.hpp"
 
 #include <algorithm>
@@ -22,8 +23,7 @@ namespace aries::fem {
 template <int R, int C, int NV = C + 1>  // NV: nodes per cell (C + 1: linear simplex; 8: trilinear hexahedron; 10: P2)
 class ElasticCells final : public Term {
  public:
-  static constexpr int NQ = kernels::quadraturePoints(NV, C);  // quadrature points per cell
-  static_assert(NQ > 0, "no quadrature rule for this element");
+  static constexpr int NQ = kernels::ElementOf<R, C, NV>::NQ;  // quadrature points per cell
   static constexpr int NDOF = NV * R;
   static constexpr int NF = R * C;   // entries of F
   struct Cell {

@@ -57,9 +57,9 @@ class FollowerPressure final : public Term {
   double s_ = 0.0;
 };
 
-// The face type of each volume element: NV = 4 (P1 tet), 8 (Q1 hexahedron), 10 (P2 tet).
-template <int NV>
-using PressureFaceOf = std::conditional_t<NV == 8, kernels::face::Quad4,
-                                          std::conditional_t<NV == 10, kernels::face::Tri6, kernels::face::Tri3>>;
+// The face type of an element type E (kernels/elements/): E::Face for a volume element; a 2D element's faces are edges,
+// which carry no pressure (the term is never made for it: Tri3 only names a type).
+template <class E>
+using PressureFaceOf = std::conditional_t<std::is_void_v<typename E::Face>, kernels::face::Tri3, typename E::Face>;
 
 }  // namespace aries::fem
