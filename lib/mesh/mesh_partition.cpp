@@ -4,9 +4,11 @@
 #include <metis.h>
 
 #include <algorithm>
+#include <limits>
 #include <vector>
 
-static_assert(sizeof(idx_t) == sizeof(PetscInt), "Debian METIS idx_t must match PetscInt (32-bit)");
+// METIS's idx_t (Debian: 32 bits) need not be PetscInt's width (64 bits with ARIES_PETSC64): where they differ,
+// PETSc's graph is copied into idx_t arrays for METIS (setMetisPartition).
 
 namespace aries::fem::loading {
 
@@ -79,15 +81,32 @@ PetscErrorCode setMetisPartition(DM dm, PetscPartitioner part) {
     // being face neighbours (PETSc's graph of a mesh without faces compares every pair of cells around a vertex).
     PetscCall(cornerDualGraph(dm, &nv, &dualOffsets, &dualAdjacency));
   }
-  std::vector<idx_t> partOf(nv, 0);
+  // the graph in METIS's index type: PETSc's own arrays where the widths agree, a copy where they do not
+  std::vector<idx_t> partOf(nv, 0), offsetsCopy, adjacencyCopy;
+  idx_t *xadj = dualOffsets, *adjncy = dualAdjacency;
+  if (depth > 1 && nv > 0) {
+    if constexpr (sizeof(idx_t) == sizeof(PetscInt)) {
+      xadj = reinterpret_cast<idx_t *>(offsets);
+      adjncy = reinterpret_cast<idx_t *>(adjacency);
+    } else {
+      PetscCheck(offsets[nv] <= static_cast<PetscInt>(std::numeric_limits<idx_t>::max()), PETSC_COMM_SELF,
+                 PETSC_ERR_SUP,
+                 "-partitioner metis: the dual graph has %" PetscInt_FMT " edges, more than METIS's %d-bit indices "
+                 "hold (use -partitioner rcb)",
+                 offsets[nv], static_cast<int>(8 * sizeof(idx_t)));
+      offsetsCopy.assign(offsets, offsets + nv + 1);
+      adjacencyCopy.assign(adjacency, adjacency + offsets[nv]);
+      xadj = offsetsCopy.data();
+      adjncy = adjacencyCopy.data();
+    }
+  }
   if (nv > 0) {
-    idx_t nvtxs = nv, ncon = 1, nparts = size, objval = 0;
+    idx_t nvtxs = static_cast<idx_t>(nv), ncon = 1, nparts = size, objval = 0;
     idx_t options[METIS_NOPTIONS];
     METIS_SetDefaultOptions(options);
     options[METIS_OPTION_SEED] = 42;  // deterministic partitions
     options[METIS_OPTION_NUMBERING] = 0;
-    const int status = METIS_PartGraphKway(&nvtxs, &ncon, depth > 1 ? offsets : dualOffsets,
-                                           depth > 1 ? adjacency : dualAdjacency, nullptr, nullptr, nullptr, &nparts,
+    const int status = METIS_PartGraphKway(&nvtxs, &ncon, xadj, adjncy, nullptr, nullptr, nullptr, &nparts,
                                            nullptr, nullptr, options, &objval, partOf.data());
     PetscCheck(status == METIS_OK, comm, PETSC_ERR_LIB, "METIS_PartGraphKway failed (status %d)", status);
   }
