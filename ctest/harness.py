@@ -18,9 +18,11 @@ def fail(msg):
 
 
 def mpi_env():
-    """Open MPI as root, oversubscribed on small CI machines, without busy-waiting ranks."""
+    """Open MPI as root, oversubscribed on small CI machines, without busy-waiting ranks; a one-rank run (no mpiexec)
+    is an isolated singleton, which spawns no daemon."""
     return dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-                OMPI_MCA_rmaps_base_oversubscribe="1", OMPI_MCA_mpi_yield_when_idle="1")
+                OMPI_MCA_rmaps_base_oversubscribe="1", OMPI_MCA_mpi_yield_when_idle="1",
+                OMPI_MCA_ess_singleton_isolated="1")
 
 
 def aries_cmd(aries, ranks, args):
