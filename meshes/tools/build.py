@@ -200,6 +200,7 @@ CATALOG = {
     "cook": cook_sizes("triangles", 2),
     # verification: Cook's membrane as a thin 3D slab, its half z in [0, 1/2] (n x n x 1 cells, 6 tets each)
     "cook_slab": cook_sizes("tets", 6),
+    "cook_slab_full": cook_sizes("tets", 12),  # the whole slab, z in [-1/2, 1/2]: cook_slab and its mirror image
     "cook_hex": cook_sizes("hexes", 1),  # the same slab in trilinear hexahedra (n x n x 1)
     "disk": {
         "test": {"rings": 10, "triangles": 6 * 10 ** 2},
@@ -235,6 +236,7 @@ PAPER = {  # the paper's meshes (Table 1: tets, Table 2: cloth triangles), for t
     "box": "(peer benchmark: DOLFINx, bench/peer.py)",
     "cook": "(verification: Cook's membrane)",
     "cook_slab": "(verification: Cook's membrane, 3D slab)",
+    "cook_slab_full": "(verification: Cook's membrane, the whole 3D slab)",
     "cook_hex": "(verification: Cook's membrane, 3D slab, hexahedra)",
     "beam": "(verification: cantilever)",
     "tube": "(verification: Lame's thick cylinder, plane strain)",
@@ -781,6 +783,25 @@ def build_cook_slab(p):
     return m, {}, {"source": "structured bilinear map, extruded (meshes/tools/build.py)", "n": n}
 
 
+def build_cook_slab_full(p):
+    """The whole slab of build_cook_slab, z in [-1/2, 1/2]: its half and the half's mirror image in z = 0 (two cell
+    layers, 12 n^2 tets), so the half with its symmetry plane held in z is this body's upper half exactly: a reference
+    for the symmetry support. Face groups: left, right, top (z = 1/2), bottom (z = -1/2)."""
+    n = p["n"]
+    P = cook_panel_points(n)
+    layers = np.repeat([-0.5, 0.0, 0.5], len(P))  # the panel at z = -1/2, 0, 1/2
+    upper = freudenthal_tets(n, n, 1) + len(P)  # build_cook_slab's tets on the layers z = 0, 1/2
+    lower = np.where(upper < 2 * len(P), upper, upper - 2 * len(P))  # z = 1/2 -> -1/2: the mirror image
+    m = mk.TetMesh(np.c_[np.vstack([P, P, P]), layers], np.vstack([upper, lower]))
+    m.orient()
+    F, _ = m.boundary_faces()
+    Q = m.X[F]
+    for tag, name, axis, value in ((1, "left", 0, 0.0), (2, "right", 0, 48.0), (3, "bottom", 2, -0.5),
+                                   (4, "top", 2, 0.5)):
+        m.add_face_set(tag, name, F[(np.abs(Q[:, :, axis] - value) < 1e-9).all(1)])
+    return m, {}, {"source": "structured bilinear map, extruded and mirrored (meshes/tools/build.py)", "n": n}
+
+
 def build_cook_hex(p):
     """build_cook_slab's panel and face groups in trilinear hexahedra: n x n x 1 cells of the extruded bilinear map."""
     n = p["n"]
@@ -1020,7 +1041,7 @@ def build_nefertiti(p):
 BUILDERS = {"box": build_box, "cylinder": build_cylinder, "cube": build_cube, "hexcube": build_hexcube, "armadillo": build_armadillo,
             "bunny": build_bunny, "octopus": build_octopus, "triceratops": build_triceratops,
             "hand": build_hand, "camel": build_camel, "cloth": build_cloth, "cook": build_cook, "beam": build_beam,
-            "cook_slab": build_cook_slab, "cook_hex": build_cook_hex,
+            "cook_slab": build_cook_slab, "cook_slab_full": build_cook_slab_full, "cook_hex": build_cook_hex,
             "tube": build_tube, "tube_hex": build_tube_hex, "shell_hex": build_shell_hex,
             "tube_curved": build_tube_curved, "shell_curved": build_shell_curved,
             "disk": build_disk,
