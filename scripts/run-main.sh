@@ -9,8 +9,8 @@
 #                           docs/images/bunny_inside_out_{before,after}.png (tracked files: commit them on purpose)
 #   --render-only           no install, build or solve: render the snapshots again from the last run in out/main/
 #
-# The scene is options/bunny_inside_out.yml: the paper's material, time step and length (E = 1e4, nu = 0,
-# dt = 1e-2, 200 steps) on our default bunny mesh (~35k tets; the paper's bunny has 637,584 tets, ours at that size
+# The scene is options/bunny_inside_out.yml: the paper's stiffness, time step and length (E = 1e4, nu = 0,
+# dt = 1e-2, 200 steps; the density 1000 is ours, the paper states none) on our default bunny mesh (~35k tets; the paper's bunny has 637,584 tets, ours at that size
 # is `meshes/generate.sh bunny paper`, 639,254 tets, hours on 2 cores). The solve takes minutes on 2 cores; every step prints a line with the time spent
 # and an estimate of the time left. Environment knobs:
 #   ARIES_MAIN_MESH=test|default|paper   bunny mesh size (default: default; test = a few thousand tets, for a quick try)

@@ -20,7 +20,8 @@ enum class Convergence {
 
 // A direction whose predicted decrease is below the energy's round-off certifies convergence only when its step is
 // also at most this many times the tolerance: a long direction with no measurable decrease is a soft mode of the
-// filtered Hessian (or an over-estimated round-off), not a certificate of equilibrium. It is not applied.
+// filtered Hessian (or an over-estimated round-off), not a certificate of equilibrium: it is an ordinary update (taken
+// in full where it lowers |g|, through the line search otherwise; docs/options.md, "Newton").
 constexpr double kRoundoffStepFactor = 10.0;
 
 // Round-off of the summed energy: machine epsilon times the sum of the magnitudes of its terms, with a safety factor

@@ -16,7 +16,8 @@
 // is solved again filtered). A step's increment of the prescribed motion is carried by the lifted updates before the
 // SNES iteration (lifted_increment.cpp), which the safeguard guards and the filter follows. A direction the
 // convergence check accepts is the step's final correction: only the steps that apply to one run
-// on it (the safeguard); one accepted by round-off is not applied, and nothing runs after the check. After each line
+// on it (the safeguard); a converged direction (a short Newton step, or one accepted by round-off) is applied only
+// where it lowers |g|, and nothing runs after the check. After each line
 // search every step may pull the accepted point back (checkPoint, the safeguard); after each update every step
 // sees its length (finishUpdate: the subspace step's limit, the adaptive filter's choice).
 // Steps that do nothing under the options are not created: the chain is the set of strategies a solve runs.
