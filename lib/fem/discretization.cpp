@@ -4,6 +4,7 @@
 #include <petscdmplex.h>
 
 #include <algorithm>
+#include <type_traits>
 #include <cmath>
 
 namespace aries::fem {
@@ -298,7 +299,8 @@ PetscErrorCode Discretization::create(Mesh &mesh, const FemOptions &options, dou
   }
   ARIES_ELEMENT_TYPES(ARIES_CREATE_IF_FITS)
 #undef ARIES_CREATE_IF_FITS
-  PetscCheck(*out, PETSC_COMM_SELF, PETSC_ERR_SUP, "mesh '%s': no element type runs on its cells", mesh.filename.c_str());
+  PetscCheck(*out, PETSC_COMM_SELF, PETSC_ERR_SUP, "mesh '%s': no element type runs on its cells",
+             mesh.filename.c_str());
   PetscFunctionReturn(0);
 }
 

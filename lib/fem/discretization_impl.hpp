@@ -1,8 +1,9 @@
-// The discretization for one element (tet 3x3, hexahedron 3x3, planar 2x2, cloth 3x2): internal to lib/fem. Its parts live in
-// one file per responsibility:
+// The discretization for one element type (kernels/elements/: tet 3x3, hexahedron 3x3, planar 2x2, cloth 3x2):
+// internal to lib/fem. Its parts live in one file per responsibility:
 //   discretization.cpp   setup order, the step state, boundary values, rest positions, mass
 //   dof_layout.cpp       Dirichlet marking, the PetscSection, the vertex table, clamp centers
-//   rest_geometry.cpp    per-cell rest data (Dm^-1, measure), degenerate/inverted cell checks, lumped mass
+//   rest_geometry.cpp    per-cell rest data (the element type's W_q, w_q, measure), degenerate/inverted cell checks,
+//                        lumped mass
 //   cell_data.cpp        materials and regions, fibers, the per-cell fields the energies name (cell_fields.hpp)
 //   assembly.cpp         objective, gradient, Hessian and curvature as loops over the terms (terms/)
 //   diagnostics.cpp      per-cell quantities, stress, reactions, owned values with natural ids for output

@@ -29,9 +29,9 @@ struct CellField {  // a cell or vertex field
 class XdmfWriter {
  public:
   // Collective. `vertices` and `cells` (kept by reference, they must outlive the writer) say which natural ids this
-  // rank's values are for; `cells` holds the natural vertex ids of this rank's owned cells (`verticesPerCell` each,
-  // in the order of the XDMF `topologyType`) and `rest` its owned vertices' rest positions (x3). With resumeAfterStep >= 0 (restart) the existing step files up
-  // to that step stay in the index.
+  // rank's values are for; `cells` holds the natural vertex ids of this rank's owned cells (`verticesPerCell` each, in
+  // the order of the XDMF `topologyType`) and `rest` its owned vertices' rest positions (x3). With resumeAfterStep >= 0
+  // (restart) the existing step files up to that step stay in the index.
   PetscErrorCode open(MPI_Comm comm, const std::string &base, const core::NaturalBlocks &vertices,
                       const core::NaturalBlocks &cells, const std::vector<PetscInt> &topology, int verticesPerCell,
                       const char *topologyType, const std::vector<double> &rest, PetscInt resumeAfterStep = -1);

@@ -1,10 +1,10 @@
-// Elements at quadrature points (kernels/element_rules.hpp): the trilinear hexahedron's rest data (partition of unity,
-// F = I at rest, volume, linear fields exact) and the element energy E(x) = sum_q w_q Psi(F_q(x)) with the gradient
-// and Hessian assembled by addPointGradient / addPointHessian (the code the solver's elastic-cell term runs), checked
-// against finite differences of E in the 24 vertex coordinates: for every 3x3 energy (each in its singularity modes),
-// on a warped rest hexahedron, at deformed states whose Gauss points see random, inverted and near-singular F. The
-// linear tetrahedron (one point) and the quadratic tetrahedron (tet10, 4 points; its rest data too) are checked the
-// same way.
+// Elements at quadrature points (kernels/element_rules.hpp, kernels/elements/): the trilinear hexahedron's rest data
+// (partition of unity, F = I at rest, volume, linear fields exact) and the element energy E(x) = sum_q w_q Psi(F_q(x))
+// with the gradient and Hessian assembled by addPointGradient / addPointHessian (the code the solver's elastic-cell
+// term runs), checked against finite differences of E in the 24 vertex coordinates: for every 3x3 energy (each in its
+// singularity modes), on a warped rest hexahedron, at deformed states whose Gauss points see random, inverted and
+// near-singular F. The linear tetrahedron (one point) and the quadratic tetrahedron (tet10, 4 points; its rest data
+// too) are checked the same way.
 #include "kernels/element_rules.hpp"
 #include "kernels/elements/hex8.hpp"
 #include "kernels/elements/simplex.hpp"
@@ -244,7 +244,10 @@ void checkElementTypeContract() {
       EXPECT_GT(w[q], 0.0);
       EXPECT_LT(W[q].colwise().sum().norm(), 1e-12) << E::kName;
       const Mat<E::R, E::C> F = X.template leftCols<E::R>().transpose() * W[q];
-      EXPECT_LT((F.transpose() * F - Mat<E::C, E::C>::Identity()).norm(), 1e-12) << E::kName;
+      if constexpr (E::R == E::C)  // F = I at rest
+        EXPECT_LT((F - Mat<E::C, E::C>::Identity()).norm(), 1e-12) << E::kName;
+      else  // a triangle in 3D: F maps its frame onto the triangle, F^T F = I
+        EXPECT_LT((F.transpose() * F - Mat<E::C, E::C>::Identity()).norm(), 1e-12) << E::kName;
     }
     EXPECT_NEAR(sum, measure, 1e-13 * measure);
     for (int v = 0; v < E::NV; ++v) {
@@ -267,10 +270,68 @@ void checkElementTypeContract() {
     if constexpr (E::R == 3 && E::C == 2) flat.col(2).setZero();  // a triangle in 3D: its vertices on the x axis
     EXPECT_NEAR(E::rest(flat, E::R == 3 && E::C == 2, &W, &wm, &measureMirrored), 0.0, 1e-14) << E::kName;
   }
+  // An affine image of the reference cell: the shares are exact fractions of the measure (simplex: 1 / NV each;
+  // parallelepiped: 1/8 each; straight P2: HRZ 1/36, 4/27 lumped and -1/20, 1/5 consistent).
+  const Mat<E::NV, 3> affine = validRest<E>(rng);
+  Mat<E::NV, 3> X = affine;
+  if constexpr (E::NV == 8)
+    for (int v = 0; v < 8; ++v)
+      X.row(v) = (affine.row(0) + 0.5 * (hex::kReference[v][0] + 1) * (affine.row(3) - affine.row(0)) +
+                  0.5 * (hex::kReference[v][1] + 1) * (affine.row(1) - affine.row(0)) +
+                  0.5 * (hex::kReference[v][2] + 1) * (affine.row(4) - affine.row(0)));
+  std::array<Mat<E::NV, E::C>, E::NQ> W;
+  std::array<double, E::NQ> w;
+  double measure = 0.0;
+  ASSERT_GT(E::rest(X, E::R == 3 && E::C == 2, &W, &w, &measure), 0.0) << E::kName;
+  for (int v = 0; v < E::NV; ++v) {
+    double lumped = 1.0 / E::NV, consistent = 1.0 / E::NV;
+    if constexpr (E::NV == 10) {
+      lumped = v < 4 ? 1.0 / 36.0 : 4.0 / 27.0;
+      consistent = v < 4 ? -1.0 / 20.0 : 1.0 / 5.0;
+    }
+    EXPECT_NEAR(E::lumpedShare(measure, w, v), lumped * measure, 1e-13 * measure) << E::kName << " node " << v;
+    EXPECT_NEAR(E::consistentShare(measure, w, v), consistent * measure, 1e-13 * measure) << E::kName << " node " << v;
+  }
   std::array<bool, E::NV> seen{};
-  for (int k = 0; k < E::NV; ++k) seen[E::outputNode(k)] = true;
+  for (int k = 0; k < E::NV; ++k) {
+    ASSERT_TRUE(E::outputNode(k) >= 0 && E::outputNode(k) < E::NV) << E::kName << ": output node " << k;
+    seen[E::outputNode(k)] = true;
+  }
   for (bool b : seen) EXPECT_TRUE(b) << E::kName << ": the output order is no permutation";
   EXPECT_TRUE((std::is_same_v<ElementOf<E::R, E::C, E::NV>, E>)) << E::kName;
+}
+
+// A point rule's cell whose det J changes sign between its points (folded, or nodes out of order) is degenerate: 0,
+// whatever its net volume; one whose det J is negative at every point is inverted (its volume, negative).
+TEST(ElementTypes, FoldedCellsAreDegenerate) {
+  std::array<double, 2> mixed = {0.3, -0.1}, negative = {-0.3, -0.1};
+  double measure = 0.0;
+  EXPECT_EQ(pointRuleMeasure<2>(-0.1, &mixed, &measure), 0.0);
+  EXPECT_NEAR(pointRuleMeasure<2>(-0.3, &negative, &measure), -0.4, 1e-15);
+  EXPECT_NEAR(measure, 0.4, 1e-15);
+  EXPECT_TRUE(negative[0] > 0.0 && negative[1] > 0.0);
+  Rng rng(5);
+  Mat<8, 3> X = warpedHex(rng, 0.0);
+  X.row(0).swap(X.row(1));  // a bow-tie bottom face
+  std::array<Mat<8, 3>, 8> W;
+  std::array<double, 8> w;
+  EXPECT_EQ(Hex8::rest(X, false, &W, &w, &measure), 0.0);
+}
+
+// A UV map's rest triangle (planar unknowns, -uv_map): given in 3D, it is measured in its own frame, so its W is the
+// flat congruent triangle's up to a rotation of the plane (W W^T agrees) and its measure is its 3D area.
+TEST(ElementTypes, PlanarTriangleFromA3DRestShape) {
+  Mat<3, 3> flat;
+  flat << 0, 0, 0, 1.2, 0.1, 0, 0.3, 0.9, 0;
+  const Mat<3, 3> turn = Eigen::AngleAxisd(0.8, Vec<3>(0.3, -1, 0.4).normalized()).toRotationMatrix();
+  const Mat<3, 3> tilted = (flat * turn.transpose()).eval();
+  std::array<Mat<3, 2>, 1> W, Wflat;
+  std::array<double, 1> w, wflat;
+  double measure = 0.0, measureFlat = 0.0;
+  EXPECT_GT(Tri3Planar::rest(tilted, true, &W, &w, &measure), 0.0);
+  EXPECT_GT(Tri3Planar::rest(flat, false, &Wflat, &wflat, &measureFlat), 0.0);
+  EXPECT_NEAR(measure, measureFlat, 1e-14);
+  EXPECT_LT((W[0] * W[0].transpose() - Wflat[0] * Wflat[0].transpose()).norm(), 1e-12);
 }
 
 TEST(ElementTypes, PlanarTriangleContract) { checkElementTypeContract<Tri3Planar>(); }

@@ -1,10 +1,11 @@
 // The elastic energy of the cells: sum over owned cells and their quadrature points q of w_q Psi(F_q), F_q = sum_v x_v
-// W_q.row(v) (kernels/element_rules.hpp; W_q and w_q from the element type, kernels/elements/), with the material of the cell's region (energies/energy.hpp): one point for
-// linear simplices (W = [-1^T Dm^-1; Dm^-1], w = the rest measure), 2x2x2 Gauss points for trilinear hexahedra, 4
-// points for quadratic tetrahedra (whose 10 nodes are vertices of the refined mesh, mesh/mesh_quadratic.cpp). The
-// Hessian is eigenvalue-filtered per point. Owns the per-cell rest data (vertices, W_q, w_q, measure, region) and the
-// anisotropy data (per cell: every point of a cell has its cell's fibers, target and curvature), and the barrier
-// mode's per-cell fallback to the mollifier (a cell falls back when any of its points is singular).
+// W_q.row(v) (kernels/element_rules.hpp; W_q and w_q from the element type, kernels/elements/), with the material of
+// the cell's region (energies/energy.hpp): one point for linear simplices (W = [-1^T Dm^-1; Dm^-1], w = the rest
+// measure), 2x2x2 Gauss points for trilinear hexahedra, 4 points for quadratic tetrahedra (whose 10 nodes are vertices
+// of the refined mesh, mesh/mesh_quadratic.cpp). The Hessian is eigenvalue-filtered per point. Owns the per-cell rest
+// data (vertices, W_q, w_q, measure, region) and the anisotropy data (per cell: every point of a cell has its cell's
+// fibers, target and curvature), and the barrier mode's per-cell fallback to the mollifier (a cell falls back when any
+// of its points is singular).
 #pragma once
 
 #include "fem/terms/term.hpp"

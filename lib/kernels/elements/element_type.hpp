@@ -1,5 +1,5 @@
-// What an element type is (pure math and facts, no PETSc): each file of this folder defines one, and fem/element_types.hpp
-// registers it with one line. An element type E provides
+// What an element type is (pure math and facts, no PETSc): each file of this folder defines one (or a family), and
+// fem/element_types.hpp registers it with one line. An element type E provides
 //   E::R, E::C            the shape of F it gives (R x C: 3x3 solids, 2x2 planar, 3x2 cloth)
 //   E::NV, E::NQ          nodes per element and quadrature points per element
 //   E::kName              what it is called in messages and docs ("trilinear hexahedron (Q1)")
@@ -17,8 +17,8 @@
 //   E::kLinearSimplex     one point, F constant per cell: the fields that need it (the caricature's curvature) run only
 //                         on such elements
 //   E::kFoldHint          added to the message for a degenerate rest cell
-// F at point q is F_q = sum_v x_v W_q.row(v) for every element (kernels/element_rules.hpp maps a point's PK1 and Hessian
-// to the nodes), so the assembly, the energies and the safeguard never ask which element they run on.
+// F at point q is F_q = sum_v x_v W_q.row(v) for every element (kernels/element_rules.hpp maps a point's PK1 and
+// Hessian to the nodes), so the assembly, the energies and the safeguard never ask which element they run on.
 #pragma once
 
 #include "kernels/types.hpp"
@@ -41,8 +41,8 @@ template <int R, int C, int NV>
 using ElementOf = typename ElementAt<R, C, NV>::type;
 
 // Rest data of an isoparametric 3D element with rest node positions X (NV x 3) at its NQ points: W_q = dN/dX =
-// dN/dxi J^-1 (J = X^T dN/dxi, dN/dxi = gradients(q)) and the weight w_q = det J * pointWeight (the rule's weight on the
-// reference cell). Returns the smallest det J over the points (a valid, consistently numbered cell has all of them
+// dN/dxi J^-1 (J = X^T dN/dxi, dN/dxi = gradients(q)) and the weight w_q = det J * pointWeight (the rule's weight on
+// the reference cell). Returns the smallest det J over the points (a valid, consistently numbered cell has all of them
 // > 0); W_q is zero where det J = 0.
 template <int NV, int NQ, class Gradients>
 inline double isoparametricRestPoints(const Mat<NV, 3> &X, const Gradients &gradients, double pointWeight,

@@ -15,9 +15,9 @@ namespace hex8 {
 
 constexpr int kVertices = 8;
 constexpr int kPoints = 8;
-constexpr double kReference[kVertices][3] = {{-1, -1, -1}, {-1, 1, -1}, {1, 1, -1}, {1, -1, -1},
+inline constexpr double kReference[kVertices][3] = {{-1, -1, -1}, {-1, 1, -1}, {1, 1, -1}, {1, -1, -1},
                                              {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
-constexpr int kVtkFromClosure[kVertices] = {0, 3, 2, 1, 4, 5, 6, 7};  // VTK/gmsh vertex k = closure vertex [k]
+inline constexpr int kVtkFromClosure[kVertices] = {0, 3, 2, 1, 4, 5, 6, 7};  // VTK/gmsh vertex k = closure vertex [k]
 
 // Gauss point q (weight 1 each): xi = (+-1, +-1, +-1) / sqrt(3), bit j of q giving the sign of xi_j.
 inline Vec<3> gaussPoint(int q) {
@@ -76,7 +76,9 @@ struct Hex8 {
   // The row sums of the consistent mass, sum_q w_q N_v(xi_q): exact for a parallelepiped (measure / 8), positive on
   // any valid hexahedron; gravity's consistent load is the same.
   static Vec<NV> pointShapeValues(int q) { return hex8::shapeValues(hex8::gaussPoint(q)); }
-  static double consistentShare(double, const std::array<double, NQ> &w, int v) { return pointRuleIntegral<Hex8>(w, v); }
+  static double consistentShare(double, const std::array<double, NQ> &w, int v) {
+    return pointRuleIntegral<Hex8>(w, v);
+  }
   static double lumpedShare(double measure, const std::array<double, NQ> &w, int v) {
     return std::abs(consistentShare(measure, w, v));
   }

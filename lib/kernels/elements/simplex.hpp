@@ -50,7 +50,8 @@ struct LinearSimplex {
   static constexpr int kOrder = 1;
   static constexpr bool kLinearSimplex = true;
   static constexpr CellKind kCells = C == 3 ? CellKind::Tetrahedron : CellKind::Triangle;
-  static constexpr const char *kName = C == 3 ? "linear tetrahedron (P1)" : R == 3 ? "cloth triangle" : "planar triangle";
+  static constexpr const char *kName =
+      C == 3 ? "linear tetrahedron (P1)" : R == 3 ? "cloth triangle" : "planar triangle";
   static constexpr const char *kMeshHas = C == 3 ? "has linear tetrahedra" : "has triangles";
   static constexpr const char *kXdmfTopology = C == 3 ? "Tetrahedron" : "Triangle";
   static constexpr const char *kFoldHint = "";

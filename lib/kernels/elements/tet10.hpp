@@ -9,19 +9,19 @@
 namespace aries::kernels {
 
 // The quadratic tetrahedron (P2, 10 nodes, straight edges) on the reference tet (0,0,0), (1,0,0), (0,1,0), (0,0,1):
-// barycentrics L0 = 1 - xi1 - xi2 - xi3, Lk = xi_k; corner k has N = Lk (2 Lk - 1), the node at the middle of edge
-// (a, b) has N = 4 La Lb. Nodes 0-3 are the corners, 4-9 the edges kEdges: VTK's order, so the node order is also
-// the XDMF Tetrahedron_10 order (gmsh's 10-node tet swaps the last two: its node 8 is on edge 23, 9 on edge 13). F is linear in the element, so Psi(F) is no polynomial and no rule
-// integrates it exactly; the 4-point rule (degree 2, positive weights) integrates the linearized stiffness grad N^T C
-// grad N (degree 2) and the consistent load of a constant body force exactly, which is what the element's optimal
-// convergence needs, and 4 points x 6 strains = 24 = 30 dofs - 6 rigid motions leaves no spurious zero-energy mode.
-// The 5-point degree-3 and 11-point degree-4 rules have a negative weight, which would break the per-point PSD
-// filter's guarantee that the element Hessian is PSD.
+// barycentrics L0 = 1 - xi1 - xi2 - xi3, Lk = xi_k; corner k has N = Lk (2 Lk - 1), the node at the middle of edge ab
+// has N = 4 La Lb. Nodes 0-3 are the corners, 4-9 the edges kEdges: VTK's order, so the node order is also the XDMF
+// Tetrahedron_10 order (gmsh's 10-node tet swaps the last two: its node 8 is on edge 23, 9 on edge 13). F is linear in
+// the element, so Psi(F) is no polynomial and no rule integrates it exactly; the 4-point rule (degree 2, positive
+// weights) integrates the linearized stiffness grad N^T C grad N (degree 2) and the consistent load of a constant body
+// force exactly, which is what the element's optimal convergence needs, and 4 points x 6 strains = 24 = 30 dofs - 6
+// rigid motions leaves no spurious zero-energy mode. The 5-point degree-3 and 11-point degree-4 rules have a negative
+// weight, which would break the per-point PSD filter's guarantee that the element Hessian is PSD.
 namespace tet10 {
 
 constexpr int kNodes = 10;
 constexpr int kPoints = 4;
-constexpr int kEdges[6][2] = {{0, 1}, {1, 2}, {0, 2}, {0, 3}, {1, 3}, {2, 3}};  // node 4 + k sits on kEdges[k]
+inline constexpr int kEdges[6][2] = {{0, 1}, {1, 2}, {0, 2}, {0, 3}, {1, 3}, {2, 3}};  // node 4 + k sits on kEdges[k]
 
 // Barycentric coordinates of point q: (5 + 3 sqrt 5) / 20 at corner q, (5 - sqrt 5) / 20 at the others; weight 1/24
 // each (the reference volume is 1/6).
@@ -64,7 +64,8 @@ inline double restPoints(const Mat<kNodes, 3> &X, std::array<Mat<kNodes, 3>, kPo
 // The lumped mass of a straight-edged P2 tet of volume V (HRZ: the consistent mass's diagonal, int N_i^2 = V/70 at a
 // corner and 8V/105 at an edge node, scaled to the total): V/36 per corner, 4V/27 per edge node, all positive (the
 // row sums, int N_i = -V/20 at a corner, are not). Gravity uses the consistent load int N_i instead, summed over the
-// points (fem/rest_geometry.cpp; consistentShare: its values on a straight-edged element, which the rule gives exactly).
+// points (Tet10::consistentShare; tet10::consistentShare: its values on a straight-edged element, which the rule gives
+// exactly, for the tests).
 inline double lumpedShare(int node) { return node < 4 ? 1.0 / 36.0 : 4.0 / 27.0; }
 inline double consistentShare(int node) { return node < 4 ? -1.0 / 20.0 : 1.0 / 5.0; }
 
@@ -89,7 +90,9 @@ struct Tet10 {
   // Gravity's consistent load int N_v, summed over the points: -measure / 20 at a straight element's corner and
   // measure / 5 at its edge nodes (a curved one's to the rule's accuracy).
   static Vec<NV> pointShapeValues(int q) { return tet10::shapeValues(tet10::pointBarycentrics(q)); }
-  static double consistentShare(double, const std::array<double, NQ> &w, int v) { return pointRuleIntegral<Tet10>(w, v); }
+  static double consistentShare(double, const std::array<double, NQ> &w, int v) {
+    return pointRuleIntegral<Tet10>(w, v);
+  }
   // HRZ (the corners' row sums are negative): the straight element's fractions of its volume, also on a curved one.
   static double lumpedShare(double measure, const std::array<double, NQ> &, int v) {
     return measure * tet10::lumpedShare(v);
