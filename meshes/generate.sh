@@ -123,7 +123,9 @@ case "${1:-}" in
   list) exec "$PY" "$BUILD" list ;;
   all)
     [ $# -le 2 ] || usage
-    for n in $("$PY" "$BUILD" names); do generate "$n" "${2:-default}"; done ;;
+    # one generate.sh per mesh, as many at once as there are cores (each gmsh runs on one thread; the per-mesh locks
+    # keep concurrent builds of one mesh apart); the paths are printed as each finishes
+    "$PY" "$BUILD" names | xargs -P "$(nproc)" -I{} "$HERE/generate.sh" {} "${2:-default}" ;;
   *)
     [ $# -le 2 ] || usage
     generate "$1" "${2:-default}" ;;
