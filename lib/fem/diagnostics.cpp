@@ -363,8 +363,6 @@ PetscErrorCode DiscretizationT<R, C, NV>::stretchTermsFixShape(bool *fixes) cons
   PetscFunctionReturn(0);
 }
 
-#define ARIES_INSTANTIATE(E) template class DiscretizationT<E::R, E::C, E::NV>;
-ARIES_ELEMENT_TYPES(ARIES_INSTANTIATE)
-#undef ARIES_INSTANTIATE
+ARIES_INSTANTIATE_FOR_ELEMENT_TYPES(DiscretizationT)
 
 }  // namespace aries::fem

@@ -260,9 +260,7 @@ void DiscretizationT<R, C, NV>::ownedSupportedVertices(std::vector<PetscInt> *lo
     if (verts_[v].owned && verts_[v].bcSet >= 0 && verts_[v].numFree == 0) local->push_back(static_cast<PetscInt>(v));
 }
 
-#define ARIES_INSTANTIATE(E) template class DiscretizationT<E::R, E::C, E::NV>;
-ARIES_ELEMENT_TYPES(ARIES_INSTANTIATE)
-#undef ARIES_INSTANTIATE
+ARIES_INSTANTIATE_FOR_ELEMENT_TYPES(DiscretizationT)
 
 bool Discretization::suspendVolumeTerms(bool suspend) {
   bool changed = false;
@@ -291,13 +289,13 @@ PetscErrorCode Discretization::create(Mesh &mesh, const FemOptions &options, dou
                                       std::unique_ptr<Discretization> *out) {
   PetscFunctionBeginUser;
   out->reset();
-#define ARIES_CREATE_IF_FITS(E)                                         \
+#define ARIES_CREATE_IF_FITS(E, unused)                                 \
   if (!*out && elementFitsMesh<E>(mesh)) {                              \
     auto d = std::make_unique<DiscretizationT<E::R, E::C, E::NV>>();    \
     PetscCall(d->setup(mesh, options, dt));                             \
     *out = std::move(d);                                                \
   }
-  ARIES_ELEMENT_TYPES(ARIES_CREATE_IF_FITS)
+  ARIES_ELEMENT_TYPES(ARIES_CREATE_IF_FITS, )
 #undef ARIES_CREATE_IF_FITS
   PetscCheck(*out, PETSC_COMM_SELF, PETSC_ERR_SUP, "mesh '%s': no element type runs on its cells",
              mesh.filename.c_str());

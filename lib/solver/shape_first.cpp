@@ -15,6 +15,7 @@
 // state whose cells are near their rest shapes, where the volume term is well scaled. The step's solution is the full
 // energy's either way: the stage only moves the point Newton starts from. The stage's updates, linear solves and
 // history are the step's.
+#include "solver/local_vec.hpp"
 #include "solver/simulation.hpp"
 
 namespace aries::solver {
@@ -23,20 +24,16 @@ namespace {
 
 // The volume terms' elastic energy at x over the other terms' (0 without volume terms).
 PetscErrorCode volumeEnergyRatio(fem::Discretization &disc, Vec x, double *ratio) {
-  Vec local;
   PetscReal full = 0.0, shape = 0.0;
   PetscFunctionBeginUser;
   *ratio = 0.0;
   if (!disc.suspendVolumeTerms(true)) PetscFunctionReturn(0);  // no volume term (nu = 0): nothing evaluated
-  PetscCall(DMGetLocalVector(disc.dm(), &local));
-  PetscCall(VecSet(local, 0.0));
-  PetscCall(DMGlobalToLocal(disc.dm(), x, INSERT_VALUES, local));
-  PetscCall(disc.fillBoundary(local));
-  const PetscErrorCode ierr = disc.diagnostics().elasticEnergy(local, &shape);
-  disc.suspendVolumeTerms(false);
+  LocalVec local(disc.dm());
+  PetscErrorCode ierr = local.fromGlobal(x, &disc);
+  if (!ierr) ierr = disc.diagnostics().elasticEnergy(local.get(), &shape);
+  disc.suspendVolumeTerms(false);  // before any error returns: the materials are the read ones again
   PetscCall(ierr);
-  PetscCall(disc.diagnostics().elasticEnergy(local, &full));
-  PetscCall(DMRestoreLocalVector(disc.dm(), &local));
+  PetscCall(disc.diagnostics().elasticEnergy(local.get(), &full));
   *ratio = (full - shape) / std::max(shape, 1e-300);
   PetscFunctionReturn(0);
 }

@@ -106,8 +106,6 @@ PetscInt ElasticCells<R, C, NV>::updateBarrierFallback(const std::vector<double>
   return count;
 }
 
-#define ARIES_INSTANTIATE(E) template class ElasticCells<E::R, E::C, E::NV>;
-ARIES_ELEMENT_TYPES(ARIES_INSTANTIATE)
-#undef ARIES_INSTANTIATE
+ARIES_INSTANTIATE_FOR_ELEMENT_TYPES(ElasticCells)
 
 }  // namespace aries::fem
