@@ -44,6 +44,7 @@ PetscErrorCode NewtonSolver::setLoad(double load) {
   fem::StepState step = ctx_.disc->step();
   if (step.load == load) PetscFunctionReturn(0);
   step.load = load;
+  ctx_.energyMemo.valid = false;  // the potential of every state changes with the load
   PetscCall(ctx_.disc->setStep(step));
   PetscFunctionReturn(0);
 }

@@ -365,6 +365,11 @@ PetscErrorCode NewtonSolver::solve(Vec x, NewtonResult *result) {
 
 PetscErrorCode NewtonSolver::solve(Vec x, double target, NewtonResult *result, bool *advanced) {
   KSP ksp;
+  struct MemoScope {  // on for this solve, off and forgotten when it returns (error returns included)
+    NewtonContext::EnergyMemo &memo;
+    explicit MemoScope(NewtonContext::EnergyMemo &m) : memo(m) { memo.on = true, memo.valid = false; }
+    ~MemoScope() { memo.on = memo.valid = false; }
+  } memoScope(ctx_.energyMemo);
   PetscFunctionBeginUser;
   NewtonResult &cur = ctx_.result;
   cur = NewtonResult{};

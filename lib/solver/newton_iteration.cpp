@@ -38,7 +38,28 @@ PetscErrorCode NewtonContext::energyAt(Vec x, PetscReal *value, PetscReal *magni
   PetscFunctionBeginUser;
   PetscCall(beginAssembly());
   PetscCall(xl.fromGlobal(x, disc));
-  PetscCall(disc->objective(xl.get(), value, magnitude));
+  if (!energyMemo.on) {
+    PetscCall(disc->objective(xl.get(), value, magnitude));
+    PetscCall(endAssembly());
+    PetscFunctionReturn(0);
+  }
+  const PetscScalar *xa;
+  PetscInt n;
+  PetscCall(VecGetLocalSize(xl.get(), &n));
+  PetscCall(VecGetArrayRead(xl.get(), &xa));
+  int same = energyMemo.valid && energyMemo.state.size() == static_cast<size_t>(n) &&
+             std::equal(xa, xa + n, energyMemo.state.begin());
+  if (!same) energyMemo.state.assign(xa, xa + n);
+  PetscCall(VecRestoreArrayRead(xl.get(), &xa));
+  // The potential is a sum over ranks: every rank evaluates, or none.
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &same, 1, MPI_INT, MPI_MIN, PetscObjectComm((PetscObject)x)));
+  if (!same) {
+    energyMemo.valid = false;
+    PetscCall(disc->objective(xl.get(), &energyMemo.value, &energyMemo.magnitude));
+    energyMemo.valid = true;
+  }
+  *value = energyMemo.value;
+  if (magnitude) *magnitude = energyMemo.magnitude;
   PetscCall(endAssembly());
   PetscFunctionReturn(0);
 }
@@ -145,7 +166,7 @@ PetscErrorCode NewtonSolver::objectiveCallback(SNES, Vec x, PetscReal *value, vo
 }
 
 PetscErrorCode NewtonSolver::alphasAt(Vec xGlobal, std::vector<double> *alpha) {
-  return AlphaSafeguard::alphasAt(ctx_, xGlobal, alpha);
+  return safeguard_->alphasAt(ctx_, xGlobal, alpha);
 }
 
 PetscErrorCode NewtonSolver::alphaAcceptable(Vec xGlobal, const std::vector<double> &reference, bool *ok) {

@@ -94,6 +94,15 @@ struct NewtonContext {
   NewtonResult result;    // the solve in progress
 
   PetscErrorCode energyAt(Vec x, PetscReal *value, PetscReal *magnitude);  // total potential at a global state
+  // While a solve runs (NewtonSolver::solve keeps it on; its load changes clear it): energyAt remembers the last state
+  // it evaluated (local values, boundary values included) and that state's potential. The convergence check asks for
+  // the potential at the point the line search has just evaluated and accepted; within a solve only the load changes
+  // the potential of a state, and outside one (the predictor and support tests between solves) nothing is remembered.
+  struct EnergyMemo {
+    bool on = false, valid = false;
+    std::vector<PetscScalar> state;
+    PetscReal value = 0.0, magnitude = 0.0;
+  } energyMemo;
   // Around every evaluation of the model: the "assembly" log stage (-log_view) and result.assemblySeconds.
   PetscErrorCode beginAssembly();
   PetscErrorCode endAssembly();
@@ -249,17 +258,29 @@ class AlphaSafeguard final : public NewtonStep {
  public:
   explicit AlphaSafeguard(const SafeguardOptions &o) : opts_(o) {}
   bool appliesToFinalCorrection() const override { return true; }
+  PetscErrorCode beginSolve(NewtonContext &) override {
+    memoDisc_ = nullptr;  // a solve may run on another discretization than the last (the detached start's)
+    return 0;
+  }
   PetscErrorCode shapeDirection(NewtonContext &ctx, Direction &d, Vec X, Vec Y, Vec F, PetscBool *changed) override;
   PetscErrorCode checkPoint(NewtonContext &ctx, Direction &d, Vec X, Vec W, PetscBool *changed) override;
   // alpha check of a state against reference alphas (the state before the step): true unless a guarded cell ends
   // below alpha_min (or any alpha is NaN). A cell is guarded when its reference alpha is at or above the top of its
   // singular band (newton.hpp).
   PetscErrorCode acceptable(NewtonContext &ctx, Vec xGlobal, const std::vector<double> &reference, bool *ok);
-  static PetscErrorCode alphasAt(NewtonContext &ctx, Vec xGlobal, std::vector<double> *alpha);
+  // Each local cell's guard value (alpha; fem::Discretization::cellGuard) at a global state, Dirichlet values filled.
+  PetscErrorCode alphasAt(NewtonContext &ctx, Vec xGlobal, std::vector<double> *alpha);
 
  private:
   SafeguardOptions opts_;
   std::vector<double> alphaRef_, bandTop_;
+  // The last state alphasAt evaluated (its local values, boundary values included, and the discretization) and its
+  // alphas: an update checks the same state up to three times (the accepted point as the next direction's reference,
+  // the full step before the line search, and the point the line search accepts, which is that full step when it
+  // takes it), and each evaluation is a pass over every cell's root function (kernels/root_function.hpp).
+  const fem::Discretization *memoDisc_ = nullptr;
+  std::vector<PetscScalar> memoState_;
+  std::vector<double> memoAlpha_;
 };
 
 }  // namespace aries::solver
