@@ -5,6 +5,9 @@
 
 #include <petscdm.h>
 
+#include <algorithm>
+#include <vector>
+
 namespace aries::solver {
 
 // Zeros at the Dirichlet dofs unless the boundary is filled (fromGlobal with the discretization).
@@ -35,6 +38,27 @@ class LocalVec {
  private:
   DM dm_;
   Vec v_ = nullptr;
+};
+
+// The key of a value remembered for one state: that state's local values (boundary values included). matches() says
+// whether a local vector holds exactly them (bit for bit; NaN never matches) and, where it does not, takes its values
+// as the new key. Per rank: a remembered sum over ranks must agree on the answer (MPI_MIN) before using it.
+class LocalStateKey {
+ public:
+  PetscErrorCode matches(Vec local, bool *same) {
+    const PetscScalar *x;
+    PetscInt n;
+    PetscFunctionBeginUser;
+    PetscCall(VecGetLocalSize(local, &n));
+    PetscCall(VecGetArrayRead(local, &x));
+    *same = values_.size() == static_cast<size_t>(n) && std::equal(x, x + n, values_.begin());
+    if (!*same) values_.assign(x, x + n);
+    PetscCall(VecRestoreArrayRead(local, &x));
+    PetscFunctionReturn(0);
+  }
+
+ private:
+  std::vector<PetscScalar> values_;
 };
 
 }  // namespace aries::solver

@@ -43,14 +43,9 @@ PetscErrorCode NewtonContext::energyAt(Vec x, PetscReal *value, PetscReal *magni
     PetscCall(endAssembly());
     PetscFunctionReturn(0);
   }
-  const PetscScalar *xa;
-  PetscInt n;
-  PetscCall(VecGetLocalSize(xl.get(), &n));
-  PetscCall(VecGetArrayRead(xl.get(), &xa));
-  int same = energyMemo.valid && energyMemo.state.size() == static_cast<size_t>(n) &&
-             std::equal(xa, xa + n, energyMemo.state.begin());
-  if (!same) energyMemo.state.assign(xa, xa + n);
-  PetscCall(VecRestoreArrayRead(xl.get(), &xa));
+  bool sameState = false;
+  PetscCall(energyMemo.state.matches(xl.get(), &sameState));
+  int same = energyMemo.valid && sameState;
   // The potential is a sum over ranks: every rank evaluates, or none.
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &same, 1, MPI_INT, MPI_MIN, PetscObjectComm((PetscObject)x)));
   if (!same) {

@@ -25,6 +25,7 @@
 
 #include "fem/discretization.hpp"
 #include "solver/convergence_rule.hpp"
+#include "solver/local_vec.hpp"
 #include "solver/newton_options.hpp"
 
 #include <petscsnes.h>
@@ -100,7 +101,7 @@ struct NewtonContext {
   // the potential of a state, and outside one (the predictor and support tests between solves) nothing is remembered.
   struct EnergyMemo {
     bool on = false, valid = false;
-    std::vector<PetscScalar> state;
+    LocalStateKey state;
     PetscReal value = 0.0, magnitude = 0.0;
   } energyMemo;
   // Around every evaluation of the model: the "assembly" log stage (-log_view) and result.assemblySeconds.
@@ -259,7 +260,7 @@ class AlphaSafeguard final : public NewtonStep {
   explicit AlphaSafeguard(const SafeguardOptions &o) : opts_(o) {}
   bool appliesToFinalCorrection() const override { return true; }
   PetscErrorCode beginSolve(NewtonContext &) override {
-    memoDisc_ = nullptr;  // a solve may run on another discretization than the last (the detached start's)
+    memoDisc_ = nullptr;  // a discretization gone since (the detached start's) cannot leave its address as a key
     return 0;
   }
   PetscErrorCode shapeDirection(NewtonContext &ctx, Direction &d, Vec X, Vec Y, Vec F, PetscBool *changed) override;
@@ -278,8 +279,8 @@ class AlphaSafeguard final : public NewtonStep {
   // alphas: an update checks the same state up to three times (the accepted point as the next direction's reference,
   // the full step before the line search, and the point the line search accepts, which is that full step when it
   // takes it), and each evaluation is a pass over every cell's root function (kernels/root_function.hpp).
-  const fem::Discretization *memoDisc_ = nullptr;
-  std::vector<PetscScalar> memoState_;
+  const fem::Discretization *memoDisc_ = nullptr;  // null: memoAlpha_ belongs to no state
+  LocalStateKey memoState_;
   std::vector<double> memoAlpha_;
 };
 

@@ -23,20 +23,12 @@ constexpr int kMaxHalvings = 60;
 // communication (the scatter before it is collective either way).
 PetscErrorCode AlphaSafeguard::alphasAt(NewtonContext &ctx, Vec xGlobal, std::vector<double> *alpha) {
   LocalVec xl(ctx.disc->dm());
-  const PetscScalar *x;
-  PetscInt n;
+  bool sameState = false;
   PetscFunctionBeginUser;
   PetscCall(xl.fromGlobal(xGlobal, ctx.disc));
-  PetscCall(VecGetLocalSize(xl.get(), &n));
-  PetscCall(VecGetArrayRead(xl.get(), &x));
-  const bool same = memoDisc_ == ctx.disc && memoState_.size() == static_cast<size_t>(n) &&
-                    std::equal(x, x + n, memoState_.begin());
-  if (!same) {
+  PetscCall(memoState_.matches(xl.get(), &sameState));
+  if (!(sameState && memoDisc_ == ctx.disc)) {
     memoDisc_ = nullptr;  // until the alphas below exist
-    memoState_.assign(x, x + n);
-  }
-  PetscCall(VecRestoreArrayRead(xl.get(), &x));
-  if (!same) {
     PetscCall(ctx.disc->cellGuard(xl.get(), &memoAlpha_));
     memoDisc_ = ctx.disc;
   }
