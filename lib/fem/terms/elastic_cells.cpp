@@ -45,6 +45,12 @@ template <int R, int C, int NV>
 PetscErrorCode ElasticCells<R, C, NV>::addHessian(const PetscScalar *x, const HessianAssembly &how, Mat J) const {
   PetscFunctionBeginUser;
   Eigen::Matrix<double, NDOF, NDOF, Eigen::RowMajor> K;
+  bool direct = false;  // straight into the matrix's value arrays (element_scatter.hpp)
+  if (J && !how.product())
+    PetscCall(scatter_.prepare(
+        J, verts_, cells_.size(), [&](size_t c) { return cells_[c].vertex.data(); },
+        [&](size_t c) { return cells_[c].owned; }, &direct));
+  if (direct) PetscCall(scatter_.begin());
   for (size_t c = 0; c < cells_.size(); ++c) {
     const Cell &cell = cells_[c];
     if (!cell.owned || productSkips<NV, R>(verts_, cell.vertex, how)) continue;
@@ -60,8 +66,10 @@ PetscErrorCode ElasticCells<R, C, NV>::addHessian(const PetscScalar *x, const He
     if (how.wholeElement && how.filter.filter != kernels::EigenFilter::None) {
       K = kernels::filterEigenvalues<NDOF>(kernels::Mat<NDOF, NDOF>(K), how.filter.filter);
     }
-    PetscCall((addElementMatrix<NV, R>(verts_, cell.vertex, K.data(), how, J)));
+    if (direct) PetscCall(scatter_.add(J, verts_, c, cell.vertex, K.data()));
+    else PetscCall((addElementMatrix<NV, R>(verts_, cell.vertex, K.data(), how, J)));
   }
+  if (direct) PetscCall(scatter_.end());
   PetscFunctionReturn(0);
 }
 

@@ -8,6 +8,7 @@
 // of its points is singular).
 #pragma once
 
+#include "fem/terms/element_scatter.hpp"
 #include "fem/terms/term.hpp"
 #include "fem/vertex_layout.hpp"
 #include "fem/element_types.hpp"
@@ -101,6 +102,7 @@ class ElasticCells final : public Term {
   std::vector<energies::CellData<C>> cellData_;
   std::vector<char> fallback_;                 // per cell: barrier -> mollifier
   std::vector<energies::Material> mollified_;  // materials_ with the barrier replaced by the mollifier
+  mutable ElementScatter<NV, R> scatter_;      // where each cell's blocks go in the last Hessian matrix's arrays
 };
 
 }  // namespace aries::fem
