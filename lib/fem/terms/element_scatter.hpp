@@ -19,7 +19,6 @@
 // (tests/fem/test_element_scatter.cpp).
 #pragma once
 
-#include "fem/terms/term.hpp"
 #include "fem/vertex_layout.hpp"
 
 #include <petscmat.h>
