@@ -10,7 +10,7 @@ namespace aries::solver {
 // Hessians of a scrambled body are near-singular); the subspace step is unlimited with inertia and limited to twice
 // the Newton step, after full steps only, without it (a static solve from a scramble can otherwise jump into another
 // basin, e.g. a folded body). An option only read where it applies (-psd_adaptive_tol with the adaptive filter,
-// -newton_subspace_max with a subspace step, -newton_inertia_guess for backward Euler) is reported unused elsewhere.
+// -newton_subspace_max and -newton_extrapolate with a subspace step, -newton_inertia_guess for backward Euler) is reported unused elsewhere.
 PetscErrorCode readNewtonOptions(bool dynamic, const NewtonOptions *base, const char *prefix, NewtonOptions *o) {
   const core::ReadContext at{prefix, dynamic ? "beuler" : "static", base != nullptr};
   PetscFunctionBeginUser;
@@ -35,6 +35,7 @@ PetscErrorCode readNewtonOptions(bool dynamic, const NewtonOptions *base, const 
     if (o->subspace.maxCoefficient > 0.0 && o->subspace.maxCoefficient < 1.0)
       SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option -%snewton_subspace_max must be 0 (no limit) or >= 1 (got %g)",
               prefix ? prefix : "", o->subspace.maxCoefficient);
+    PetscCall(core::get(opt::newtonExtrapolate, &o->subspace.extrapolate, nullptr, at));
   }
   PetscCall(core::get(opt::newtonRotation, &o->rotation.doublings, nullptr, at));
   PetscCall(core::get(opt::newtonForcing, &o->convergence.forcing, nullptr, at));

@@ -24,10 +24,11 @@ struct FilterOptions {
   bool exactNearSolution = false;  // -newton_exact_hessian: the unfiltered Hessian after full-length updates
 };
 
-// SubspaceStep: -newton_subspace, -newton_subspace_max.
+// SubspaceStep: -newton_subspace, -newton_subspace_max, -newton_extrapolate.
 struct SubspaceOptions {
   PetscInt size = 1;             // previous updates combined with the Newton direction (0: off)
   double maxCoefficient = 0.0;   // limit of the Newton direction's coefficient (0: none)
+  PetscInt extrapolate = 0;      // doublings of a full step along negative exact curvature (0: off)
 };
 
 // RotationalUpdate: -newton_rotation.

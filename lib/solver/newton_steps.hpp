@@ -56,6 +56,7 @@ struct IterationRecord {
   int level = 0;            // nested iteration: 0 the run's mesh, k the k-th -coarse_mesh
   double load = 0.0;        // the load parameter of the state the row's update reached (its target, once reached)
   bool lifted = false;      // a lifted update: the supports moved with it (lifted_increment.cpp)
+  double extrapolated = 0.0;  // -newton_extrapolate's scale of the full step (2, 4, ...; 0: not extrapolated)
 };
 
 struct NewtonResult {
@@ -201,6 +202,7 @@ class SubspaceStep final : public NewtonStep {
   PetscErrorCode finishUpdate(NewtonContext &ctx, const Direction &d, Vec xNew, double lambda) override;
 
  private:
+  PetscErrorCode extrapolate(NewtonContext &ctx, Direction &d, Vec X, Vec Y, PetscBool *changed);
   SubspaceOptions opts_;
   std::vector<Vec> updates_;  // previous updates of this solve, newest first
   Vec prevX_ = nullptr, newtonDir_ = nullptr;

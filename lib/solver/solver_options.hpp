@@ -136,6 +136,13 @@ inline constexpr OptionDecl newtonSubspaceMax =
                "line-search steps only")
         .byDefault("2", "static", "0", "beuler")
         .atLeast(0);
+inline constexpr OptionDecl newtonExtrapolate =
+    intOption("-newton_extrapolate", "K",
+              "where the exact curvature along the Newton direction is negative (the energy is not convex along it), "
+              "its full step is doubled up to K times while the energy falls (0: off)")
+        .byDefault("0", "static", "6", "beuler")
+        .atLeast(0)
+        .atMost(10);
 inline constexpr OptionDecl newtonRotation =
     intOption("-newton_rotation", "K",
               "rotational update: the rotational part of each vertex's step follows the circle, up to K doublings of "
@@ -177,7 +184,7 @@ inline constexpr OptionDecl multigridMinDofs =
 inline constexpr const OptionDecl *kNewtonOptions[] = {
     &newtonTol,      &alphaMin,          &psdProjection,  &psdEigensystem,     &psdScope,     &psdAdaptiveTol,
     &newtonExactHessian, &newtonSubspace,
-    &newtonSubspaceMax, &newtonRotation, &newtonForcing,  &liftIncrements, &newtonInertiaGuess, &nearNullspace,
-    &multigridMinDofs};
+    &newtonSubspaceMax, &newtonExtrapolate, &newtonRotation, &newtonForcing,  &liftIncrements, &newtonInertiaGuess,
+    &nearNullspace, &multigridMinDofs};
 
 }  // namespace aries::solver::opt
