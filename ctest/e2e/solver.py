@@ -250,6 +250,39 @@ def case_multigrid_rule():
         fail("the static scramble with GAMG by rule did not converge")
 
 
+def case_extrapolate():
+    """-newton_extrapolate (backward Euler default 6): the dynamic scramble of the test armadillo at nu 0.3 (one box of
+    vertices held) reaches a stretch where the exact curvature along the Newton direction is negative after a full
+    update (one such update, doubled to 8x, when this was written). Checked: with the default at least one update is
+    extrapolated, each by a power of two from 2 to 64, each of those updates lowers the energy, and the step converges;
+    with -newton_extrapolate 0 none is and the step converges too (the option switches exactly this off)."""
+    base = ["-dm_plex_filename", mesh("armadillo"), "-energy", "iarap", "-E", "1e4", "-nu", "0.3", "-integrator",
+            "beuler", "-dt", "1e-2", "-steps", "1", "-density", "1000", "-initial", "scramble", "-bc_box",
+            "-10,10,-10,10,-10,-0.3"]
+    for tag, extra in (("extrapolate_default", []), ("extrapolate_off", ["-newton_extrapolate", "0"])):
+        run(base + extra + ["-output", out_base(tag), "-stats", out_base(tag) + ".csv", "-newton_history",
+                            out_base(tag) + "_newton.csv"], tag=tag)
+        reason = stats(out_base(tag) + ".csv")[0]["reason"]
+        hist = csv_rows(out_base(tag) + "_newton.csv")
+        factors = [(k, float(h["extrapolated"])) for k, h in enumerate(hist) if float(h["extrapolated"]) > 0]
+        print("%s: %d updates, reason %s, extrapolated updates (row, factor) %s" % (tag, len(hist) - 1, reason, factors))
+        if reason not in CONVERGED:
+            fail("%s: step 1 did not converge (%s)" % (tag, reason))
+        if extra and factors:
+            fail("-newton_extrapolate 0 still extrapolated: %s" % factors)
+        if not extra:
+            if not factors:
+                fail("no update was extrapolated: the case no longer reaches negative curvature after a full update")
+            for k, f in factors:
+                if f not in (2, 4, 8, 16, 32, 64):
+                    fail("row %d extrapolated by %g, not a power of two from 2 to 64" % (k, f))
+                # the iterate it reached: the last row of the next iteration (a retried direction's row comes first)
+                after = [h for h in hist if int(h["iteration"]) == int(hist[k]["iteration"]) + 1][-1:]
+                if not after or not float(after[0]["energy"]) < float(hist[k]["energy"]):
+                    fail("row %d: the extrapolated update did not lower the energy (%s -> %s)"
+                         % (k, hist[k]["energy"], after[0]["energy"] if after else "no next iterate"))
+
+
 CASES = {
     "safeguard_basic": lambda: case_safeguard("basic"),
     "safeguard_l2": lambda: case_safeguard("l2"),
@@ -258,4 +291,6 @@ CASES = {
     "newton_variants": case_newton_variants,
     "multigrid_rule": case_multigrid_rule,
     "run_resources": case_run_resources,
+    "extrapolate": case_extrapolate,
 }
+
