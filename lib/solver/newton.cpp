@@ -297,13 +297,13 @@ PetscErrorCode NewtonSolver::setup(fem::Discretization &disc, const NewtonOption
   auto check = std::make_unique<ConvergenceCheck>(opts_.convergence);
   check_ = check.get();
   steps_.push_back(std::move(check));
-  if (opts_.subspace.size > 0) steps_.push_back(std::make_unique<SubspaceStep>(opts_.subspace));
+  auto safeguard = std::make_unique<AlphaSafeguard>(opts_.safeguard);  // runs last; the subspace step asks it first
+  safeguard_ = safeguard.get();
+  if (opts_.subspace.size > 0) steps_.push_back(std::make_unique<SubspaceStep>(opts_.subspace, safeguard_));
   if (opts_.rotation.doublings >= 0) steps_.push_back(std::make_unique<RotationalUpdate>(opts_.rotation));
   auto filter = std::make_unique<HessianFilter>(opts_.filter);
   filter_ = filter.get();
   steps_.push_back(std::move(filter));
-  auto safeguard = std::make_unique<AlphaSafeguard>(opts_.safeguard);
-  safeguard_ = safeguard.get();
   steps_.push_back(std::move(safeguard));
 
   // Defaults (overridable by -snes_*, -ksp_*, -pc_*).

@@ -193,9 +193,12 @@ class ConvergenceCheck final : public NewtonStep {
 
 // 3. Subspace step: the update minimizes the true quadratic model (exact Hessian) over span{Newton direction, last
 // m updates}.
+class AlphaSafeguard;
+
 class SubspaceStep final : public NewtonStep {
  public:
-  explicit SubspaceStep(const SubspaceOptions &o) : opts_(o) {}
+  // safeguard: the run's alpha safeguard, which the extrapolation asks before it doubles a step (not owned)
+  SubspaceStep(const SubspaceOptions &o, AlphaSafeguard *safeguard) : opts_(o), safeguard_(safeguard) {}
   ~SubspaceStep() override;
   PetscErrorCode beginSolve(NewtonContext &ctx) override;
   PetscErrorCode shapeDirection(NewtonContext &ctx, Direction &d, Vec X, Vec Y, Vec F, PetscBool *changed) override;
@@ -204,6 +207,8 @@ class SubspaceStep final : public NewtonStep {
  private:
   PetscErrorCode extrapolate(NewtonContext &ctx, Direction &d, Vec X, Vec Y, PetscBool *changed);
   SubspaceOptions opts_;
+  AlphaSafeguard *safeguard_;
+  std::vector<double> alphaRef_;  // the alphas at the update's start, for the extrapolation's safeguard checks
   std::vector<Vec> updates_;  // previous updates of this solve, newest first
   Vec prevX_ = nullptr, newtonDir_ = nullptr;
   PetscInt count_ = 0;        // updates held

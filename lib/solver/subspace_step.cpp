@@ -123,8 +123,8 @@ PetscErrorCode SubspaceStep::shapeDirection(NewtonContext &ctx, Direction &d, Ve
 // one update each (measured: the Fig. 13 interaction on the 7.4k-hex bunny, step 182: 14 such updates of 2.5e-4 in a
 // row). The step is doubled, up to opts_.extrapolate times, while each doubling lowers the energy by at least what the
 // full step lowered it (as it does where the curvature is truly negative; a flat stretch, whose decrease round-off
-// could decide differently on another partition, stops it); the line search and the safeguard then act on the longer
-// step as on any other.
+// could decide differently on another partition, stops it) and the alpha safeguard accepts the doubled step; the line
+// search and the safeguard then act on the longer step as on any other.
 PetscErrorCode SubspaceStep::extrapolate(NewtonContext &ctx, Direction &d, Vec X, Vec Y, PetscBool *changed) {
   PetscReal best, e;
   PetscFunctionBeginUser;
@@ -133,8 +133,13 @@ PetscErrorCode SubspaceStep::extrapolate(NewtonContext &ctx, Direction &d, Vec X
   const double gain = d.energyBefore - best;  // the full step's decrease
   if (!(gain > 0.0)) PetscFunctionReturn(0);
   double scale = 1.0;
+  if (safeguard_) PetscCall(safeguard_->alphasAt(ctx, X, &alphaRef_));
   for (PetscInt k = 1; k <= opts_.extrapolate; ++k) {
     PetscCall(VecWAXPY(ctx.work, -2.0 * scale, Y, X));
+    bool ok = true;  // a doubling the safeguard would halve again stops here (its halvings would also end the
+                     // exact-Hessian iterations as after a shortened step: HessianFilter)
+    if (safeguard_) PetscCall(safeguard_->acceptable(ctx, ctx.work, alphaRef_, &ok));
+    if (!ok) break;
     PetscCall(ctx.energyAt(ctx.work, &e, nullptr));
     if (!(e <= best - gain)) break;
     best = e;
