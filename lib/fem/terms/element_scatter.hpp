@@ -185,7 +185,8 @@ PetscErrorCode ElementScatter<NV, R>::find(Mat J, const VertexTable &verts, size
         const PetscInt length = ia[p][row + 1] - ia[p][row];
         for (int i = 0; good && i < R; ++i) {
           good = ia[p][row + i + 1] - ia[p][row + i] == length;
-          for (int j = 0; good && j < R; ++j) good = ja[p][k + i * length + j] == col + j;
+          for (int j = 0; good && j < R; ++j)  // off-diagonal columns are compressed: their global ids via garray
+            good = ja[p][k + i * length + j] == col + j && (p == 0 || garray[col + j] == wi.global + j);
         }
         if (!good) break;
         rowLength_[p][vertex[a]] = static_cast<std::int32_t>(length);
