@@ -265,7 +265,8 @@ def case_extrapolate():
         reason = stats(out_base(tag) + ".csv")[0]["reason"]
         hist = csv_rows(out_base(tag) + "_newton.csv")
         factors = [(k, float(h["extrapolated"])) for k, h in enumerate(hist) if float(h["extrapolated"]) > 0]
-        print("%s: %d updates, reason %s, extrapolated updates (row, factor) %s" % (tag, len(hist) - 1, reason, factors))
+        print("%s: %d updates, reason %s, extrapolated updates (row, factor) %s"
+              % (tag, len(hist) - 1, reason, factors))
         if reason not in CONVERGED:
             fail("%s: step 1 did not converge (%s)" % (tag, reason))
         if extra and factors:
@@ -293,4 +294,3 @@ CASES = {
     "run_resources": case_run_resources,
     "extrapolate": case_extrapolate,
 }
-

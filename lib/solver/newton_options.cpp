@@ -10,7 +10,8 @@ namespace aries::solver {
 // Hessians of a scrambled body are near-singular); the subspace step is unlimited with inertia and limited to twice
 // the Newton step, after full steps only, without it (a static solve from a scramble can otherwise jump into another
 // basin, e.g. a folded body). An option only read where it applies (-psd_adaptive_tol with the adaptive filter,
-// -newton_subspace_max and -newton_extrapolate with a subspace step, -newton_inertia_guess for backward Euler) is reported unused elsewhere.
+// -newton_subspace_max and -newton_extrapolate with a subspace step, -newton_inertia_guess for backward Euler) is
+// reported unused elsewhere.
 PetscErrorCode readNewtonOptions(bool dynamic, const NewtonOptions *base, const char *prefix, NewtonOptions *o) {
   const core::ReadContext at{prefix, dynamic ? "beuler" : "static", base != nullptr};
   PetscFunctionBeginUser;

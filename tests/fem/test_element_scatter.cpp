@@ -1,6 +1,7 @@
-// ElementScatter (fem/terms/element_scatter.hpp) against MatSetValues: the same element matrices
-// added either way into matrices of the same pattern must give the same matrix, bit for bit (the values are summed in
-// the same order: element by element, another rank's rows at assembly). Run on 1 and 2 ranks (ctest fem.*), for the
+// ElementScatter (fem/terms/element_scatter.hpp) against MatSetValues (setElementMatrix, every term's path where the
+// scatter does not apply): the same element matrices added either way into matrices of the same pattern must give the
+// same matrix, bit for bit (the values are summed in the same order: element by element, another rank's rows at
+// assembly). Run on 1 and 2 ranks (ctest fem.*), for the
 // element shapes aries has (4 and 10 nodes with 3 dofs: linear and quadratic tetrahedra; 8: hexahedra; 3 nodes with 2
 // dofs: planar triangles), AIJ and BAIJ, with held vertices among the free ones. The elements are windows of NV
 // consecutive vertices on a chain numbered across the ranks, so every rank's last elements reach into the next rank's
@@ -75,25 +76,6 @@ struct Chain {
   }
 };
 
-// The reference: element matrix K (row-major) through MatSetValuesBlocked (R x R blocks, BAIJ) or MatSetValues (AIJ),
-// held dofs skipped by negative indices, as fem/terms/term.hpp's addElementMatrix adds it.
-template <int NV, int R>
-PetscErrorCode setValues(const VertexTable &verts, const std::array<PetscInt, NV> &vertex, const double *K, bool blocked,
-                         Mat J) {
-  PetscFunctionBeginUser;
-  if (blocked) {
-    PetscInt rows[NV];
-    for (int v = 0; v < NV; ++v) rows[v] = verts[vertex[v]].numFree == 0 ? -1 : verts[vertex[v]].global / R;
-    PetscCall(MatSetValuesBlocked(J, NV, rows, NV, rows, K, ADD_VALUES));
-  } else {
-    PetscInt rows[NV * R];
-    for (int v = 0; v < NV; ++v)
-      for (int i = 0; i < R; ++i) rows[v * R + i] = verts[vertex[v]].row(i);
-    PetscCall(MatSetValues(J, NV * R, rows, NV * R, rows, K, ADD_VALUES));
-  }
-  PetscFunctionReturn(0);
-}
-
 // A reproducible, unsymmetric element matrix with entries of mixed magnitude (round-off shows if the order changes).
 template <int N>
 void elementMatrix(PetscInt id, int round, double *K) {
@@ -121,7 +103,7 @@ PetscErrorCode createMatrix(const Chain<NV, R> &chain, MatType type, Mat *J) {
   PetscCall(MatSetUp(P));
   std::array<double, NV * R * NV * R> K{};
   for (size_t e = 0; e < chain.elements.size(); ++e)
-    PetscCall((setValues<NV, R>(chain.verts, chain.elements[e], K.data(), blocked, P)));
+    PetscCall((aries::fem::setElementMatrix<NV, R>(chain.verts, chain.elements[e], K.data(), blocked, P)));
   PetscCall(MatAssemblyBegin(P, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(P, MAT_FINAL_ASSEMBLY));
   PetscCall(make(J, type));
@@ -150,7 +132,7 @@ PetscErrorCode assemble(const Chain<NV, R> &chain, Mat J, bool viaScatter, aries
   for (size_t e = 0; e < chain.elements.size(); ++e) {
     elementMatrix<N>(chain.elementId[e], round, K.data());
     if (*direct) PetscCall(scatter->add(J, chain.verts, e, chain.elements[e], K.data()));
-    else PetscCall((setValues<NV, R>(chain.verts, chain.elements[e], K.data(), blocked, J)));
+    else PetscCall((aries::fem::setElementMatrix<NV, R>(chain.verts, chain.elements[e], K.data(), blocked, J)));
   }
   if (*direct) PetscCall(scatter->end());
   PetscCall(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));

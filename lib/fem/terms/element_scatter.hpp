@@ -3,8 +3,9 @@
 // MatSetValues locates every entry on every assembly: for AIJ (GAMG's matrix) each of an element's (NV R)^2 entries
 // goes through MPIAIJ's ownership test, its off-diagonal column map and a search of its row, which made the insertion
 // about half of a Jacobian evaluation on the compressed box (bench/peer.py's, 125k tets, one rank: two evaluations took
-// 0.82 s, 0.30 s with this scatter; BAIJ, whose search is per 3x3 block, 0.40 s and 0.33 s). The pattern is fixed once the matrix is preallocated (Discretization::preallocateHessian
-// fills and assembles it), so the position of each element block is found once: per element and vertex pair (v, w),
+// 0.82 s, 0.30 s with this scatter; BAIJ, whose search is per 3x3 block, 0.40 s and 0.33 s). The pattern is fixed once
+// the matrix is preallocated (Discretization::preallocateHessian fills and assembles it), so the position of each
+// element block is found once: per element and vertex pair (v, w),
 // where block (v, w) starts in the value array of the diagonal or the off-diagonal part (MatMPIAIJGetSeqAIJ,
 // MatMPIBAIJGetSeqBAIJ) of v's rows. An assembly then adds each block with no search. Rows another rank owns still go
 // through MatSetValues (PETSc's stash), as before.
@@ -29,6 +30,32 @@
 #include <vector>
 
 namespace aries::fem {
+
+// A vertex's block row / column (R x R blocks, BAIJ): -1 where it is held (PETSc's Mat*SetValues* skip negative
+// indices); its scalar rows are VertexInfo::row.
+template <int R>
+inline PetscInt blockIndex(const VertexInfo &vi) {
+  return vi.numFree == 0 ? -1 : vi.global / R;
+}
+
+// Adds element matrix K (row-major, (NV R) x (NV R)) into J through MatSetValuesBlocked (R x R blocks, BAIJ) or
+// MatSetValues (AIJ), prescribed dofs skipped: every element matrix's path where the scatter below does not apply.
+template <int NV, int R, class Vertices>
+inline PetscErrorCode setElementMatrix(const VertexTable &verts, const Vertices &vertex, const double *K, bool blocked,
+                                       Mat J) {
+  PetscFunctionBeginUser;
+  if (blocked) {  // every vertex all free or all held (a partly held vertex makes the matrix AIJ)
+    PetscInt rows[NV];
+    for (int v = 0; v < NV; ++v) rows[v] = blockIndex<R>(verts[vertex[v]]);
+    PetscCall(MatSetValuesBlocked(J, NV, rows, NV, rows, K, ADD_VALUES));
+  } else {
+    PetscInt rows[NV * R];
+    for (int v = 0; v < NV; ++v)
+      for (int i = 0; i < R; ++i) rows[v * R + i] = verts[vertex[v]].row(i);
+    PetscCall(MatSetValues(J, NV * R, rows, NV * R, rows, K, ADD_VALUES));
+  }
+  PetscFunctionReturn(0);
+}
 
 template <int NV, int R>
 class ElementScatter {
@@ -240,16 +267,16 @@ PetscErrorCode ElementScatter<NV, R>::add(Mat J, const VertexTable &verts, size_
   for (int a = 0; a < NV; ++a) {
     const VertexInfo &vi = verts[vertex[a]];
     if (vi.numFree == 0) continue;
-    if (!vi.owned) {  // another rank's rows: through the stash, as addElementMatrix would
+    if (!vi.owned) {  // another rank's rows: through the stash, as setElementMatrix adds them
       if (blocked_) {
-        PetscInt row = vi.global / R, cols[NV];
-        for (int b = 0; b < NV; ++b) cols[b] = verts[vertex[b]].numFree == 0 ? -1 : verts[vertex[b]].global / R;
+        PetscInt row = blockIndex<R>(vi), cols[NV];
+        for (int b = 0; b < NV; ++b) cols[b] = blockIndex<R>(verts[vertex[b]]);
         PetscCall(MatSetValuesBlocked(J, 1, &row, NV, cols, K + a * R * N, ADD_VALUES));
       } else {
         PetscInt rows[R], cols[N];
-        for (int i = 0; i < R; ++i) rows[i] = vi.global + i;
+        for (int i = 0; i < R; ++i) rows[i] = vi.row(i);
         for (int b = 0; b < NV; ++b)
-          for (int j = 0; j < R; ++j) cols[b * R + j] = verts[vertex[b]].numFree == 0 ? -1 : verts[vertex[b]].global + j;
+          for (int j = 0; j < R; ++j) cols[b * R + j] = verts[vertex[b]].row(j);
         PetscCall(MatSetValues(J, R, rows, N, cols, K + a * R * N, ADD_VALUES));
       }
       continue;

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "energies/energy.hpp"
+#include "fem/terms/element_scatter.hpp"
 #include "fem/vertex_layout.hpp"
 
 #include <petscmat.h>
@@ -67,18 +68,8 @@ inline PetscErrorCode addElementMatrix(const VertexTable &verts, const Vertices 
           for (int j = 0; j < R; ++j) sum += row[w * R + j] * how.productIn[verts[vertex[w]].loc + j];
         how.productOut[verts[vertex[v]].loc + i] += sum;
       }
-  } else if (how.blocked) {  // every vertex all free or all held (a partly held vertex makes the matrix AIJ)
-    PetscInt rows[NV];
-    for (int v = 0; v < NV; ++v) {
-      const VertexInfo &vi = verts[vertex[v]];
-      rows[v] = vi.numFree == 0 ? -1 : vi.global / R;
-    }
-    PetscCall(MatSetValuesBlocked(J, NV, rows, NV, rows, K, ADD_VALUES));
   } else {
-    PetscInt rows[NV * R];
-    for (int v = 0; v < NV; ++v)
-      for (int i = 0; i < R; ++i) rows[v * R + i] = verts[vertex[v]].row(i);
-    PetscCall(MatSetValues(J, NV * R, rows, NV * R, rows, K, ADD_VALUES));
+    PetscCall((setElementMatrix<NV, R>(verts, vertex, K, how.blocked, J)));
   }
   PetscFunctionReturn(0);
 }
