@@ -180,6 +180,14 @@ def case_defs():
     d["unsupported_element"] = (lambda: ["-dm_plex_filename", write("prism.msh", TET_MSH.replace(
         "3 4 2 1 1 2 3 4 5", "3 6 2 1 1 1 2 3 4 5 1"))],
                                 r"prism\.msh' line \d+: unsupported element type 6 \(6-node prism\)")
+    # Tags, counts and types are integers of at most 2^31 - 1: a larger one is refused before it is converted to an int
+    # (the conversion is undefined behaviour; clang's UBSan found it in the fuzz test).
+    d["huge_element_type"] = (lambda: ["-dm_plex_filename", write("hugetype.msh", TET_MSH.replace(
+        "3 4 2 1 1 2 3 4 5", "3 -4.97909e+12 2 1 1 2 3 4 5"))],
+                              r"hugetype\.msh' line \d+: number 2 of a \$Elements line, -4\.97909e\+12, is not an integer "
+                              r"between -2147483647 and 2147483647")
+    d["fractional_node_tag"] = (lambda: ["-dm_plex_filename", write("fractag.msh", TET_MSH.replace("\n5 1 1 1\n", "\n5.5 1 1 1\n"))],
+                                r"fractag\.msh' line \d+: number 1 of a \$Nodes line, 5\.5, is not an integer")
     # A 10-node tetrahedron whose edge nodes are not in gmsh's order (nodes 8 and 9 swapped) is refused by -element
     # p2, which places them; the same file in order is read (the e2e tests run second-order meshes).
     d["second_order_node_order"] = (lambda: ["-dm_plex_filename", write("tet10_order.msh", second_order_tet_msh(
@@ -226,6 +234,9 @@ def case_defs():
     d["fiber_count"] = (lambda: ["-dm_plex_filename", good_mesh(), "-energy", "fiber", "-gamma", "1", "-fiber_file",
                                  write("f3.txt", fibers(3, ["1 0 0"] * 3))],
                         r"-fiber_file file '.*f3\.txt' declares 3 cells but the mesh has 2")
+    d["fiber_count_huge"] = (lambda: ["-dm_plex_filename", good_mesh(), "-energy", "fiber", "-gamma", "1", "-fiber_file",
+                                      write("fhuge.txt", fibers(2, ["1 0 0"] * 2).replace("\n2\n", "\n1e300\n"))],
+                             r"-fiber_file file '.*fhuge\.txt' declares 1e300 cells but the mesh has 2")
     d["fiber_zero"] = (lambda: ["-dm_plex_filename", good_mesh(), "-energy", "fiber", "-gamma", "1", "-fiber_file",
                                 write("f0.txt", fibers(2, ["1 0 0", "0 0 0"]))],
                        r"-fiber_file file '.*f0\.txt' line 4: zero-length vector for cell 1")

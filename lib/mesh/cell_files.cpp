@@ -51,13 +51,12 @@ PetscErrorCode readCellVectorFile(MPI_Comm comm, const std::string &file, const 
       long lineNo = 0, declared = -1, cell = 0;
       while (err.str().empty() && nextDataLine(in, &lineNo, &line, &tok)) {
         if (declared < 0) {
-          double n;
+          double n = 0.0;
           if (tok.size() != 1 || !parseReal(tok[0], &n) || n != std::floor(n) || n < 0)
             err << option << " file '" << file << "' line " << lineNo << ": expected the number of cells";
-          else if (static_cast<PetscInt>(n) != numCells)
-            err << option << " file '" << file << "' declares " << static_cast<long>(n) << " cells but the mesh has "
-                << numCells;
-          declared = static_cast<long>(n);
+          else if (n != static_cast<double>(numCells))  // compared as doubles: any count converts exactly
+            err << option << " file '" << file << "' declares " << tok[0] << " cells but the mesh has " << numCells;
+          declared = numCells;
           continue;
         }
         if (cell >= numCells) {
@@ -123,10 +122,11 @@ PetscErrorCode readTargetKeyframeFile(MPI_Comm comm, const std::string &file, Pe
       double a = 0, b = 0;
       if (keys < 0) {
         if (tok.size() != 4 || tok[0] != "cells" || tok[2] != "keyframes" || !parseReal(tok[1], &a) ||
-            !parseReal(tok[3], &b) || a != std::floor(a) || b != std::floor(b) || b < 1) {
-          err << where << " line " << lineNo << ": expected 'cells N keyframes K' (K >= 1)";
-        } else if (static_cast<PetscInt>(a) != numCells) {
-          err << where << " declares " << static_cast<long>(a) << " cells but the mesh has " << numCells;
+            !parseReal(tok[3], &b) || a != std::floor(a) || b != std::floor(b) || b < 1 || b > 2147483647.0) {
+          err << where << " line " << lineNo << ": expected 'cells N keyframes K' (1 <= K <= 2147483647)";
+          b = 1;
+        } else if (a != static_cast<double>(numCells)) {  // compared as doubles: any count converts exactly
+          err << where << " declares " << tok[1] << " cells but the mesh has " << numCells;
         }
         keys = static_cast<long>(b);
         if (err.str().empty()) block.assign(static_cast<size_t>(blockRows) * keys * comps, 0.0);

@@ -74,8 +74,9 @@ class Reader {
     }
     return false;
   }
-  // Reads the next line and splits it into numbers; false (and an error) at end of file.
-  bool numbers(std::vector<double> *v, const char *what, long declared = -1, long index = -1) {
+  // Reads the next line and splits it into numbers, the first integerColumns of which (tags, counts, types) must be
+  // integers (integers() below); false (and an error) at end of file or on a bad number.
+  bool numbers(std::vector<double> *v, const char *what, size_t integerColumns, long declared = -1, long index = -1) {
     std::string l;
     if (!line(&l)) return fail(std::string("file ends inside ") + what + " (truncated?)");
     if (!l.empty() && l[0] == '$') {
@@ -93,8 +94,22 @@ class Reader {
       if (end == tok.c_str() || *end != '\0') return fail("'" + tok + "' is not a number in " + what);
       v->push_back(x);
     }
+    return integers(*v, what, 0, integerColumns);
+  }
+  // v[from, to) must be whole numbers of magnitude at most 2^31 - 1 (gmsh's tags, counts and types; larger ones are
+  // not supported), so that converting them to int or long is defined.
+  bool integers(const std::vector<double> &v, const char *what, size_t from, size_t to = kAllColumns) {
+    for (size_t k = from; k < std::min(to, v.size()); ++k)
+      if (!(std::abs(v[k]) <= kMaxInteger) || v[k] != std::floor(v[k])) {
+        std::ostringstream o;
+        o << "number " << k + 1 << " of a " << what << " line, " << v[k]
+          << ", is not an integer between -2147483647 and 2147483647 (a tag, count or type)";
+        return fail(o.str());
+      }
     return true;
   }
+  static constexpr size_t kAllColumns = static_cast<size_t>(-1);
+  static constexpr double kMaxInteger = 2147483647.0;
   bool expect(const std::string &marker) {
     std::string l;
     if (!line(&l)) return fail("file ends before " + marker + " (truncated?)");
@@ -251,10 +266,10 @@ using SectionParser = bool (*)(Reader &r, NodeData *nodes);
 
 bool nodes2(Reader &r, NodeData *nodes) {
   std::vector<double> v;
-  if (!r.numbers(&v, "$Nodes") || v.size() != 1) return r.fail("expected the number of nodes after $Nodes");
+  if (!r.numbers(&v, "$Nodes", Reader::kAllColumns) || v.size() != 1) return r.fail("expected the number of nodes after $Nodes");
   const long n = static_cast<long>(v[0]);
   for (long i = 0; i < n; ++i) {
-    if (!r.numbers(&v, "$Nodes", n, i)) return false;
+    if (!r.numbers(&v, "$Nodes", 1, n, i)) return false;
     if (v.size() != 4) return r.fail("a node line needs 4 numbers (id x y z)");
     if (!nodes->addNode(static_cast<long>(v[0]), v[1], v[2], v[3]))
       return r.fail("node " + std::to_string((long)v[0]) + " is defined twice");
@@ -265,13 +280,14 @@ bool nodes2(Reader &r, NodeData *nodes) {
 
 bool elements2(Reader &r, NodeData *nodes) {
   std::vector<double> v;
-  if (!r.numbers(&v, "$Elements") || v.size() != 1) return r.fail("expected the number of elements after $Elements");
+  if (!r.numbers(&v, "$Elements", Reader::kAllColumns) || v.size() != 1) return r.fail("expected the number of elements after $Elements");
   const long n = static_cast<long>(v[0]);
   for (long i = 0; i < n; ++i) {
-    if (!r.numbers(&v, "$Elements", n, i)) return false;
+    if (!r.numbers(&v, "$Elements", Reader::kAllColumns, n, i)) return false;
     if (v.size() < 3) return r.fail("an element line needs id, type, number of tags, tags and nodes");
     const int type = static_cast<int>(v[1]), ntags = static_cast<int>(v[2]);
     if (!checkElementType(r, type)) return false;
+    if (ntags < 0) return r.fail("element " + std::to_string((long)v[0]) + " has a negative number of tags");
     nodes->elementTypes |= 1u << type;
     const size_t expected = 3 + ntags + nodesOfType(type);
     if (v.size() != expected)
@@ -290,20 +306,20 @@ bool elements2(Reader &r, NodeData *nodes) {
 
 bool nodes4(Reader &r, NodeData *nodes) {
   std::vector<double> v;
-  if (!r.numbers(&v, "$Nodes") || v.size() != 4) return r.fail("expected 'numBlocks numNodes minTag maxTag' after $Nodes");
+  if (!r.numbers(&v, "$Nodes", Reader::kAllColumns) || v.size() != 4) return r.fail("expected 'numBlocks numNodes minTag maxTag' after $Nodes");
   const long blocks = static_cast<long>(v[0]), total = static_cast<long>(v[1]);
   long seen = 0;
   for (long b = 0; b < blocks; ++b) {
-    if (!r.numbers(&v, "$Nodes") || v.size() != 4) return r.fail("expected a node block header (dim tag parametric count)");
+    if (!r.numbers(&v, "$Nodes", Reader::kAllColumns) || v.size() != 4) return r.fail("expected a node block header (dim tag parametric count)");
     if (v[2] != 0) return r.fail("parametric node coordinates are not supported");
     const long n = static_cast<long>(v[3]);
     std::vector<long> tags;
     for (long i = 0; i < n; ++i) {
-      if (!r.numbers(&v, "$Nodes") || v.size() != 1) return r.fail("expected a node tag");
+      if (!r.numbers(&v, "$Nodes", Reader::kAllColumns) || v.size() != 1) return r.fail("expected a node tag");
       tags.push_back(static_cast<long>(v[0]));
     }
     for (long i = 0; i < n; ++i) {
-      if (!r.numbers(&v, "$Nodes") || v.size() != 3) return r.fail("expected x y z of a node");
+      if (!r.numbers(&v, "$Nodes", 0) || v.size() != 3) return r.fail("expected x y z of a node");
       if (!nodes->addNode(tags[i], v[0], v[1], v[2])) return r.fail("node " + std::to_string(tags[i]) + " is defined twice");
     }
     seen += n;
@@ -314,11 +330,11 @@ bool nodes4(Reader &r, NodeData *nodes) {
 
 bool elements4(Reader &r, NodeData *nodes) {
   std::vector<double> v;
-  if (!r.numbers(&v, "$Elements") || v.size() != 4) return r.fail("expected 'numBlocks numElements minTag maxTag' after $Elements");
+  if (!r.numbers(&v, "$Elements", Reader::kAllColumns) || v.size() != 4) return r.fail("expected 'numBlocks numElements minTag maxTag' after $Elements");
   const long blocks = static_cast<long>(v[0]), total = static_cast<long>(v[1]);
   long seen = 0;
   for (long b = 0; b < blocks; ++b) {
-    if (!r.numbers(&v, "$Elements") || v.size() != 4) return r.fail("expected an element block header (dim tag type count)");
+    if (!r.numbers(&v, "$Elements", Reader::kAllColumns) || v.size() != 4) return r.fail("expected an element block header (dim tag type count)");
     const int type = static_cast<int>(v[2]);
     if (!checkElementType(r, type)) return false;
     nodes->elementTypes |= 1u << type;
@@ -328,7 +344,7 @@ bool elements4(Reader &r, NodeData *nodes) {
     if (entity == nodes->entityTag.end() && nodes->facets) nodes->facets->known = false;
     const int tag = entity == nodes->entityTag.end() ? -1 : entity->second;
     for (long i = 0; i < n; ++i) {
-      if (!r.numbers(&v, "$Elements")) return false;
+      if (!r.numbers(&v, "$Elements", Reader::kAllColumns)) return false;
       if (v.size() != static_cast<size_t>(1 + nodesOfType(type))) return r.fail("element line with a wrong number of nodes");
       for (size_t k = 1; k < v.size(); ++k)
         if (!nodes->index.count(static_cast<long>(v[k]))) return r.fail("element uses undefined node " + std::to_string((long)v[k]));
@@ -345,14 +361,15 @@ bool elements4(Reader &r, NodeData *nodes) {
 // and volumes: tag and a bounding box, numPhysical tags..., then their bounding entities).
 bool entities4(Reader &r, NodeData *nodes) {
   std::vector<double> v;
-  if (!r.numbers(&v, "$Entities") || v.size() != 4) return r.fail("expected the four entity counts after $Entities");
+  if (!r.numbers(&v, "$Entities", Reader::kAllColumns) || v.size() != 4) return r.fail("expected the four entity counts after $Entities");
   const long counts[4] = {static_cast<long>(v[0]), static_cast<long>(v[1]), static_cast<long>(v[2]),
                           static_cast<long>(v[3])};
   for (int dim = 0; dim < 4; ++dim)
     for (long i = 0; i < counts[dim]; ++i) {
-      if (!r.numbers(&v, "$Entities")) return false;
+      if (!r.numbers(&v, "$Entities", 1)) return false;
       const size_t at = dim == 0 ? 4 : 7;  // numPhysicalTags
-      if (v.size() <= at || v.size() < at + 1 + static_cast<size_t>(v[at]))
+      if (v.size() <= at || !r.integers(v, "$Entities", at)) return r.fail("an entity line too short for its physical tags");
+      if (v[at] < 0 || v.size() < at + 1 + static_cast<size_t>(v[at]))
         return r.fail("an entity line too short for its physical tags");
       const int first = v[at] > 0 ? static_cast<int>(v[at + 1]) : -1;
       nodes->entityTag[{dim, static_cast<int>(v[0])}] = first;
@@ -403,7 +420,7 @@ std::string validateFile(const std::string &file, const std::string &option, Gms
     return r.error();
   }
   std::vector<double> v;
-  if (!r.numbers(&v, "$MeshFormat") || v.size() != 3) {
+  if (!r.numbers(&v, "$MeshFormat", 0) || v.size() != 3 || !r.integers(v, "$MeshFormat", 1)) {
     r.fail("expected 'version file-type data-size' after $MeshFormat");
     return r.error();
   }
