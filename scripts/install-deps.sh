@@ -3,6 +3,7 @@
 set -euo pipefail
 packages=(
   build-essential cmake pkg-config            # toolchain
+  clang libclang-rt-14-dev                    # the compiler CMakeLists.txt prefers (docs/build.md), its sanitizers
   petsc-dev libopenmpi-dev openmpi-bin        # PETSc 3.18 (DMPlex, SNES, HDF5 viewer) + Open MPI
   libhdf5-openmpi-dev libmetis-dev libeigen3-dev
   libgtest-dev libbenchmark-dev               # tests and kernel benchmarks
