@@ -838,8 +838,8 @@ def write_report(sections, seconds, made_by):
            "time: docs/results.md, section 7 (`bench/run`)."
            % (made_by, commit, datetime.date.today().isoformat(), ARGS.ranks, seconds, os.uname().nodename), ""]
     doc += ["Patch tests (homogeneous deformations imposed on the whole boundary with `-bc_clamp_<set>_affine`, for every "
-            "energy on every element shape it supports) run in ctest: `e2e.patch_tests` (ctest/e2e/supports.py, "
-            "case_patch_tests), on one rank. Supports on some components (`-bc_clamp_<id>_components`: rollers, "
+            "energy on every element shape it supports) run in ctest: `e2e.patch_tests_<shape>` (tet, hex, p2, "
+            "planar, cloth; ctest/e2e/supports.py, case_patch_tests), on one rank. Supports on some components (`-bc_clamp_<id>_components`: rollers, "
             "symmetry planes) are checked against an exact homogeneous state in `e2e.symmetry_supports`.", ""]
     for title, text, tab in sections:
         doc += ["## " + title, "", " ".join(line.strip() for line in text.strip().splitlines()), "", tab]

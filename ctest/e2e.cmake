@@ -59,7 +59,9 @@ endforeach()
 # cases run on both rank counts, and so do shell_pressure (follower, P1 and P2), pressure_open_wall (dead, P1, P2 and
 # hexahedra) and surface_loads.
 aries_e2e(pressure_elements pressure_elements 1)
-aries_e2e(patch_tests patch_tests 1)
+foreach(shape tet hex p2 planar cloth)  # one case per element shape: they run side by side
+  aries_e2e(patch_tests_${shape} patch_tests_${shape} 1)
+endforeach()
 aries_e2e(detached_start detached_start 1)
 aries_e2e(inside_out_density1 inside_out_density1 1)
 aries_e2e(nested_cell_files nested_cell_files 1)
