@@ -5,10 +5,11 @@ usage: bench/compilers.py [--jobs N] [--repeat N] [--no-build] [--out docs/build
 
 Builds the whole project (every target of the README's test command: Release, the Python module) from an empty folder
 with each compiler (out/compilers/gcc, out/compilers/clang; CC/CXX set, so CMakeLists.txt's choice is overridden), and
-records the build's wall time and the CPU time of the compiler processes; then runs a few scenes with each build's
+records the build's wall time and CPU time (every process of the build: cmake, make and the compilers); then runs a few scenes with each build's
 aries, in turns (GCC, clang, GCC, ...), --repeat times each, and compares their wall times pair by pair (the median
 of the clang/GCC ratios) and their Newton and PCG counts. Writes docs/build.md. Takes about 20 minutes on 2 cores.
---no-build times the scenes again with the builds (and the build times, out/compilers/builds.json) of the last run.
+--no-build times the scenes again with the builds of the last run (their times, jobs, compiler versions and commit:
+out/compilers/builds.json).
 """
 import argparse
 import json
@@ -99,17 +100,21 @@ def main():
     if ARGS.no_build:
         if not os.path.exists(record):
             sys.exit("compilers.py: --no-build: no builds of an earlier run (%s); run without --no-build" % record)
-        builds = json.load(open(record))
+        record = json.load(open(record))
     else:
-        builds = {name: build(name) for name in COMPILERS}
-        with open(record, "w") as fh:
-            json.dump(builds, fh)
+        record = {"builds": {name: build(name) for name in COMPILERS}, "jobs": ARGS.jobs,
+                  "versions": [versions("g++"), versions("clang++")], "commit": scenes.commit_line(),
+                  "when": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())}
+        with open(os.path.join(WORK, "builds.json"), "w") as fh:
+            json.dump(record, fh)
+    builds = record["builds"]
     rows = []
     for label, ranks, mesh, opts in SCENES:
         opts = list(opts)
         if mesh:
             opts += ["-dm_plex_filename", scenes.generate(*mesh)]
-        run("gcc", ranks, opts)  # warm-up: file caches, meshes
+        for name in COMPILERS:  # warm-up: file caches, meshes
+            run(name, ranks, opts)
         walls = {"gcc": [], "clang": []}
         counts = {}
         for _ in range(ARGS.repeat):
@@ -129,13 +134,13 @@ def main():
         "keeps the compiler it was configured with); scripts/install-deps.sh installs clang. These figures are why."
         % (" --no-build" if ARGS.no_build else "", scenes.machine_line(ARGS.jobs).split(" on ", 1)[1],
            scenes.commit_line(), (time.monotonic() - started) / 60,
-           ", the scenes; the builds are the previous run's" if ARGS.no_build else ""),
+           ", the scenes; the builds: %s, %s" % (record["when"], record["commit"]) if ARGS.no_build else ""),
         "",
-        "Compilers: %s; %s." % (versions("g++"), versions("clang++")),
+        "Compilers: %s; %s." % tuple(record["versions"]),
         "",
-        "## The whole build from an empty folder (every target of `bash scripts/test.sh`, -j%d)" % ARGS.jobs,
+        "## The whole build from an empty folder (every target of `bash scripts/test.sh`, -j%d)" % record["jobs"],
         "",
-        "| compiler | wall s | compiler CPU s |",
+        "| compiler | wall s | CPU s (cmake, make, compilers) |",
         "| --- | ---: | ---: |",
         "| GCC | %.0f | %.0f |" % (gw, gc),
         "| clang | %.0f | %.0f |" % (cw, cc),

@@ -184,8 +184,12 @@ def case_defs():
     # (the conversion is undefined behaviour; clang's UBSan found it in the fuzz test).
     d["huge_element_type"] = (lambda: ["-dm_plex_filename", write("hugetype.msh", TET_MSH.replace(
         "3 4 2 1 1 2 3 4 5", "3 -4.97909e+12 2 1 1 2 3 4 5"))],
-                              r"hugetype\.msh' line \d+: number 2 of a \$Elements line, -4\.97909e\+12, is not an integer "
+                              r"hugetype\.msh' line \d+: number 2 of a \$Elements line, -4979090000000, is not an integer "
                               r"between -2147483647 and 2147483647")
+    # MSH 4.0 lays out $Entities and $Nodes differently from 4.1 (which gmsh has written since 2018).
+    d["gmsh_format_40"] = (lambda: ["-dm_plex_filename", write("v40.msh", TET_MSH.replace("2.2 0 8", "4 0 8"))],
+                           r"v40\.msh' line 2: unsupported gmsh format version 4 \(2\.x and 4\.1 are supported: save the "
+                           r"mesh as MSH 4\.1 or 2\.2\)")
     d["fractional_node_tag"] = (lambda: ["-dm_plex_filename", write("fractag.msh", TET_MSH.replace("\n5 1 1 1\n", "\n5.5 1 1 1\n"))],
                                 r"fractag\.msh' line \d+: number 1 of a \$Nodes line, 5\.5, is not an integer")
     # A 10-node tetrahedron whose edge nodes are not in gmsh's order (nodes 8 and 9 swapped) is refused by -element
@@ -244,6 +248,11 @@ def case_defs():
                                            write("kf.txt", "cells 2 keyframes 2\ntime 1\n1 1 1 0 0 0\n1 1 1 0 0 0\n"
                                                  "time 0.5\n1 1 1 0 0 0\n1 1 1 0 0 0\n")],
                                   r"-target_file '.*kf\.txt' line 5: keyframe times must increase \(0\.5 after 1\)")
+    d["target_keyframe_count_huge"] = (lambda: ["-dm_plex_filename", good_mesh(), "-energy", "shape_target",
+                                                 "-target_file", write("kh.txt", "cells 2 keyframes 2000000000\ntime 0\n"
+                                                                       "1 1 1 0 0 0\n1 1 1 0 0 0\n")],
+                                      r"-target_file '.*kh\.txt' declares 2000000000 keyframes of 2 cells, more than its "
+                                      r"\d+ bytes can hold")
     d["target_keyframe_short"] = (lambda: ["-dm_plex_filename", good_mesh(), "-energy", "shape_target", "-target_file",
                                            write("ks.txt", "cells 2 keyframes 1\ntime 0\n1 1 1 0 0\n")],
                                   r"-target_file '.*ks\.txt' line 3: expected 6 numbers \(s11 s22 s33 s12 s23 s13\), got 5")

@@ -59,7 +59,9 @@ endforeach()
 # cases run on both rank counts, and so do shell_pressure (follower, P1 and P2), pressure_open_wall (dead, P1, P2 and
 # hexahedra) and surface_loads.
 aries_e2e(pressure_elements pressure_elements 1)
-foreach(shape tet hex p2 planar cloth)  # one case per element shape: they run side by side
+# One case per element shape, side by side: the shapes of PATCH_ENERGIES in ctest/e2e/supports.py (a shape added there
+# is added here).
+foreach(shape tet hex p2 planar cloth)
   aries_e2e(patch_tests_${shape} patch_tests_${shape} 1)
 endforeach()
 aries_e2e(detached_start detached_start 1)

@@ -147,7 +147,8 @@ def rotation(axis, degrees):
 
 # Every energy on every element shape it supports, with the parameters it needs (a unique minimizer: each energy's
 # stiffness spans every strain). Left out: alx (stiff only along its fiber: the interior of a patch is not unique) and
-# caricature (its per-cell curvature field makes the material vary from cell to cell by design).
+# caricature (its per-cell curvature field makes the material vary from cell to cell by design). Each shape is a ctest
+# case of its own (ctest/e2e.cmake lists them).
 PATCH_ENERGIES = {
     "tet": [["iarap"], ["iarap_lin"], ["arap_svd"], ["fiber", "-gamma", "50"], ["kim_aa"], ["shape_target"],
             ["ortho", "-ortho_mu", "100,200,300", "-fiber", "1,1,0", "-fiber2", "0,0,1"],

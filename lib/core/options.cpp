@@ -26,6 +26,13 @@ bool parseReal(const std::string &text, double *value) {
   return true;
 }
 
+bool parseInteger(const std::string &text, PetscInt *value) {
+  double v;
+  if (!parseReal(text, &v) || v != std::floor(v) || !(std::abs(v) <= static_cast<double>(PETSC_MAX_INT))) return false;
+  *value = static_cast<PetscInt>(v);
+  return true;
+}
+
 PetscErrorCode optionString(const char *prefix, const char *name, std::string *value, PetscBool *set) {
   char buf[PETSC_MAX_PATH_LEN] = "";
   PetscBool has = PETSC_FALSE;

@@ -24,6 +24,8 @@ PetscErrorCode optionRealList(const char *prefix, const char *name, std::vector<
 
 // Parses a finite real number; false if `text` is not one entirely.
 bool parseReal(const std::string &text, double *value);
+// Parses a whole number (written as any real: "3", "3.0", "3e0") that a PetscInt holds; false otherwise.
+bool parseInteger(const std::string &text, PetscInt *value);
 
 // Reading a declared option (core/option_decl.hpp). `prefix` reads it under a prefix (a region's material
 // "region_2_", a clamp set's "bc_clamp_top_"); `when` names the case that picks the default ("static", "beuler").

@@ -114,6 +114,9 @@ PetscErrorCode readTargetKeyframeFile(MPI_Comm comm, const std::string &file, Pe
     std::ostringstream err;
     const std::string where = "-target_file '" + file + "'";
     if (!in) err << "cannot open " << where;
+    in.seekg(0, std::ios::end);
+    const std::streamoff fileBytes = in ? static_cast<std::streamoff>(in.tellg()) : 0;
+    in.seekg(0, std::ios::beg);
     std::string line;
     std::vector<std::string> tok;
     long lineNo = 0, keys = -1, key = -1, cell = 0;
@@ -128,6 +131,11 @@ PetscErrorCode readTargetKeyframeFile(MPI_Comm comm, const std::string &file, Pe
         } else if (a != static_cast<double>(numCells)) {  // compared as doubles: any count converts exactly
           err << where << " declares " << tok[1] << " cells but the mesh has " << numCells;
         }
+        // Every keyframe takes at least numCells lines of comps numbers (2 bytes each, "0 "): a count the file
+        // cannot hold is refused here, before the targets' storage is sized by it.
+        if (err.str().empty() && b * static_cast<double>(numCells) * comps * 2.0 > static_cast<double>(fileBytes))
+          err << where << " declares " << tok[3] << " keyframes of " << numCells << " cells, more than its " << fileBytes
+              << " bytes can hold";
         keys = static_cast<long>(b);
         if (err.str().empty()) block.assign(static_cast<size_t>(blockRows) * keys * comps, 0.0);
         continue;

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <iomanip>
 #include <map>
 #include <unordered_map>
 #include <set>
@@ -102,7 +103,7 @@ class Reader {
     for (size_t k = from; k < std::min(to, v.size()); ++k)
       if (!(std::abs(v[k]) <= kMaxInteger) || v[k] != std::floor(v[k])) {
         std::ostringstream o;
-        o << "number " << k + 1 << " of a " << what << " line, " << v[k]
+        o << "number " << k + 1 << " of a " << what << " line, " << std::setprecision(15) << v[k]
           << ", is not an integer between -2147483647 and 2147483647 (a tag, count or type)";
         return fail(o.str());
       }
@@ -289,7 +290,7 @@ bool elements2(Reader &r, NodeData *nodes) {
     if (!checkElementType(r, type)) return false;
     if (ntags < 0) return r.fail("element " + std::to_string((long)v[0]) + " has a negative number of tags");
     nodes->elementTypes |= 1u << type;
-    const size_t expected = 3 + ntags + nodesOfType(type);
+    const size_t expected = 3 + static_cast<size_t>(ntags) + static_cast<size_t>(nodesOfType(type));
     if (v.size() != expected)
       return r.fail("element " + std::to_string((long)v[0]) + " has " + std::to_string(v.size()) +
                     " numbers, expected " + std::to_string(expected));
@@ -426,8 +427,10 @@ std::string validateFile(const std::string &file, const std::string &option, Gms
   }
   const double version = v[0];
   const int fileType = static_cast<int>(v[1]);
-  if (!(version >= 2.0 && version < 3.0) && !(version >= 4.0 && version < 5.0)) {
-    r.fail("unsupported gmsh format version " + std::to_string(version) + " (2.x and 4.x are supported)");
+  if (!(version >= 2.0 && version < 3.0) && !(version >= 4.1 && version < 5.0)) {
+    std::ostringstream o;
+    o << "unsupported gmsh format version " << v[0] << " (2.x and 4.1 are supported: save the mesh as MSH 4.1 or 2.2)";
+    r.fail(o.str());
     return r.error();
   }
   if (fileType != 0) return {};  // binary: left to PETSc's reader

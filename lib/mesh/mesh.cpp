@@ -19,7 +19,6 @@
 
 namespace aries::fem {
 
-using core::parseReal;
 using core::sharedLeafPoints;
 
 Mesh::~Mesh() {
@@ -368,9 +367,8 @@ PetscErrorCode physicalGroupPoints(const Mesh &mesh, const std::string &idOrName
   // (label, value): the "... Sets" label of the group's dimension, or, with -dm_plex_gmsh_use_regions, the label
   // PETSc names after the group.
   std::vector<std::pair<std::string, PetscInt>> lookups;
-  double parsed;
-  if (parseReal(idOrName, &parsed) && parsed == static_cast<double>(static_cast<PetscInt>(parsed))) {
-    const PetscInt tag = static_cast<PetscInt>(parsed);
+  PetscInt tag;
+  if (core::parseInteger(idOrName, &tag)) {
     for (const char *l : {"Face Sets", "Edge Sets", "Vertex Sets"}) lookups.emplace_back(l, tag);
     for (const auto &kv : mesh.physicalNames)
       if (kv.second.tag == tag && kv.second.dim < mesh.topoDim) lookups.emplace_back(kv.first, tag);
@@ -473,10 +471,8 @@ PetscErrorCode closureVertices(const Mesh &mesh, PetscInt point, std::vector<Pet
 PetscErrorCode regionLabel(const Mesh &mesh, const std::string &idOrName, DMLabel *label, PetscInt *value) {
   PetscFunctionBeginUser;
   *label = nullptr;
-  double parsed;
   std::string name;
-  if (parseReal(idOrName, &parsed) && parsed == static_cast<double>(static_cast<PetscInt>(parsed))) {
-    *value = static_cast<PetscInt>(parsed);
+  if (core::parseInteger(idOrName, value)) {
     for (const auto &kv : mesh.physicalNames)
       if (kv.second.tag == *value && kv.second.dim == mesh.topoDim) name = kv.first;
   } else {
