@@ -5,9 +5,9 @@ usage: bench/compilers.py [--jobs N] [--repeat N] [--no-build] [--out docs/build
 
 Builds the whole project (every target of the README's test command: Release, the Python module) from an empty folder
 with each compiler (out/compilers/gcc, out/compilers/clang; CC/CXX set, so CMakeLists.txt's choice is overridden), and
-records the build's wall time and CPU time (every process of the build: cmake, make and the compilers); then runs a few scenes with each build's
-aries, in turns (GCC, clang, GCC, ...), --repeat times each, and compares their wall times pair by pair (the median
-of the clang/GCC ratios) and their Newton and PCG counts. Writes docs/build.md. Takes about 20 minutes on 2 cores.
+records the build's wall time and CPU time (every process of the build: cmake, make and the compilers); then runs a
+few scenes with each build's aries, in turns (GCC, clang, GCC, ...), --repeat times each, and compares their wall
+times pair by pair (the median of the clang/GCC ratios) and their Newton and PCG counts. Writes docs/build.md. Takes about 20 minutes on 2 cores.
 --no-build times the scenes again with the builds of the last run (their times, jobs, compiler versions and commit:
 out/compilers/builds.json).
 """
@@ -92,20 +92,20 @@ def main():
     ap.add_argument("--no-build", action="store_true", help="reuse the builds of the last run (out/compilers)")
     ap.add_argument("--out", default=os.path.join(ROOT, "docs", "build.md"))
     ARGS = ap.parse_args()
-    for cc, cxx in COMPILERS.values():
+    for _, cxx in COMPILERS.values():
         if not shutil.which(cxx):
             sys.exit("compilers.py: %s is not installed (bash scripts/install-deps.sh installs both)" % cxx)
     started = time.monotonic()
-    record = os.path.join(WORK, "builds.json")
+    record_file = os.path.join(WORK, "builds.json")
     if ARGS.no_build:
-        if not os.path.exists(record):
-            sys.exit("compilers.py: --no-build: no builds of an earlier run (%s); run without --no-build" % record)
-        record = json.load(open(record))
+        if not os.path.exists(record_file):
+            sys.exit("compilers.py: --no-build: no builds of an earlier run (%s); run without --no-build" % record_file)
+        record = json.load(open(record_file))
     else:
         record = {"builds": {name: build(name) for name in COMPILERS}, "jobs": ARGS.jobs,
                   "versions": [versions("g++"), versions("clang++")], "commit": scenes.commit_line(),
                   "when": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())}
-        with open(os.path.join(WORK, "builds.json"), "w") as fh:
+        with open(record_file, "w") as fh:
             json.dump(record, fh)
     builds = record["builds"]
     rows = []

@@ -190,7 +190,8 @@ def case_defs():
     d["gmsh_format_40"] = (lambda: ["-dm_plex_filename", write("v40.msh", TET_MSH.replace("2.2 0 8", "4 0 8"))],
                            r"v40\.msh' line 2: unsupported gmsh format version 4 \(2\.x and 4\.1 are supported: save the "
                            r"mesh as MSH 4\.1 or 2\.2\)")
-    d["fractional_node_tag"] = (lambda: ["-dm_plex_filename", write("fractag.msh", TET_MSH.replace("\n5 1 1 1\n", "\n5.5 1 1 1\n"))],
+    d["fractional_node_tag"] = (lambda: ["-dm_plex_filename", write("fractag.msh", TET_MSH.replace("\n5 1 1 1\n",
+                                                                                                  "\n5.5 1 1 1\n"))],
                                 r"fractag\.msh' line \d+: number 1 of a \$Nodes line, 5\.5, is not an integer")
     # A 10-node tetrahedron whose edge nodes are not in gmsh's order (nodes 8 and 9 swapped) is refused by -element
     # p2, which places them; the same file in order is read (the e2e tests run second-order meshes).

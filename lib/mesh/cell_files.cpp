@@ -134,8 +134,8 @@ PetscErrorCode readTargetKeyframeFile(MPI_Comm comm, const std::string &file, Pe
         // Every keyframe takes at least numCells lines of comps numbers (2 bytes each, "0 "): a count the file
         // cannot hold is refused here, before the targets' storage is sized by it.
         if (err.str().empty() && b * static_cast<double>(numCells) * comps * 2.0 > static_cast<double>(fileBytes))
-          err << where << " declares " << tok[3] << " keyframes of " << numCells << " cells, more than its " << fileBytes
-              << " bytes can hold";
+          err << where << " declares " << tok[3] << " keyframes of " << numCells << " cells, more than its "
+              << fileBytes << " bytes can hold";
         keys = static_cast<long>(b);
         if (err.str().empty()) block.assign(static_cast<size_t>(blockRows) * keys * comps, 0.0);
         continue;

@@ -64,6 +64,10 @@ const char *typeName(int type) {
   }
 }
 
+// Reader::numbers: every number of the line is an integer (a tag, count or type), and the largest such integer.
+constexpr size_t kAllColumns = static_cast<size_t>(-1);
+constexpr double kMaxInteger = 2147483647.0;
+
 class Reader {
  public:
   Reader(std::istream &in, std::string file) : in_(in), file_(std::move(file)) {}
@@ -109,8 +113,6 @@ class Reader {
       }
     return true;
   }
-  static constexpr size_t kAllColumns = static_cast<size_t>(-1);
-  static constexpr double kMaxInteger = 2147483647.0;
   bool expect(const std::string &marker) {
     std::string l;
     if (!line(&l)) return fail("file ends before " + marker + " (truncated?)");
@@ -267,7 +269,8 @@ using SectionParser = bool (*)(Reader &r, NodeData *nodes);
 
 bool nodes2(Reader &r, NodeData *nodes) {
   std::vector<double> v;
-  if (!r.numbers(&v, "$Nodes", Reader::kAllColumns) || v.size() != 1) return r.fail("expected the number of nodes after $Nodes");
+  if (!r.numbers(&v, "$Nodes", kAllColumns) || v.size() != 1)
+    return r.fail("expected the number of nodes after $Nodes");
   const long n = static_cast<long>(v[0]);
   for (long i = 0; i < n; ++i) {
     if (!r.numbers(&v, "$Nodes", 1, n, i)) return false;
@@ -281,10 +284,11 @@ bool nodes2(Reader &r, NodeData *nodes) {
 
 bool elements2(Reader &r, NodeData *nodes) {
   std::vector<double> v;
-  if (!r.numbers(&v, "$Elements", Reader::kAllColumns) || v.size() != 1) return r.fail("expected the number of elements after $Elements");
+  if (!r.numbers(&v, "$Elements", kAllColumns) || v.size() != 1)
+    return r.fail("expected the number of elements after $Elements");
   const long n = static_cast<long>(v[0]);
   for (long i = 0; i < n; ++i) {
-    if (!r.numbers(&v, "$Elements", Reader::kAllColumns, n, i)) return false;
+    if (!r.numbers(&v, "$Elements", kAllColumns, n, i)) return false;
     if (v.size() < 3) return r.fail("an element line needs id, type, number of tags, tags and nodes");
     const int type = static_cast<int>(v[1]), ntags = static_cast<int>(v[2]);
     if (!checkElementType(r, type)) return false;
@@ -307,16 +311,18 @@ bool elements2(Reader &r, NodeData *nodes) {
 
 bool nodes4(Reader &r, NodeData *nodes) {
   std::vector<double> v;
-  if (!r.numbers(&v, "$Nodes", Reader::kAllColumns) || v.size() != 4) return r.fail("expected 'numBlocks numNodes minTag maxTag' after $Nodes");
+  if (!r.numbers(&v, "$Nodes", kAllColumns) || v.size() != 4)
+    return r.fail("expected 'numBlocks numNodes minTag maxTag' after $Nodes");
   const long blocks = static_cast<long>(v[0]), total = static_cast<long>(v[1]);
   long seen = 0;
   for (long b = 0; b < blocks; ++b) {
-    if (!r.numbers(&v, "$Nodes", Reader::kAllColumns) || v.size() != 4) return r.fail("expected a node block header (dim tag parametric count)");
+    if (!r.numbers(&v, "$Nodes", kAllColumns) || v.size() != 4)
+      return r.fail("expected a node block header (dim tag parametric count)");
     if (v[2] != 0) return r.fail("parametric node coordinates are not supported");
     const long n = static_cast<long>(v[3]);
     std::vector<long> tags;
     for (long i = 0; i < n; ++i) {
-      if (!r.numbers(&v, "$Nodes", Reader::kAllColumns) || v.size() != 1) return r.fail("expected a node tag");
+      if (!r.numbers(&v, "$Nodes", kAllColumns) || v.size() != 1) return r.fail("expected a node tag");
       tags.push_back(static_cast<long>(v[0]));
     }
     for (long i = 0; i < n; ++i) {
@@ -331,11 +337,13 @@ bool nodes4(Reader &r, NodeData *nodes) {
 
 bool elements4(Reader &r, NodeData *nodes) {
   std::vector<double> v;
-  if (!r.numbers(&v, "$Elements", Reader::kAllColumns) || v.size() != 4) return r.fail("expected 'numBlocks numElements minTag maxTag' after $Elements");
+  if (!r.numbers(&v, "$Elements", kAllColumns) || v.size() != 4)
+    return r.fail("expected 'numBlocks numElements minTag maxTag' after $Elements");
   const long blocks = static_cast<long>(v[0]), total = static_cast<long>(v[1]);
   long seen = 0;
   for (long b = 0; b < blocks; ++b) {
-    if (!r.numbers(&v, "$Elements", Reader::kAllColumns) || v.size() != 4) return r.fail("expected an element block header (dim tag type count)");
+    if (!r.numbers(&v, "$Elements", kAllColumns) || v.size() != 4)
+      return r.fail("expected an element block header (dim tag type count)");
     const int type = static_cast<int>(v[2]);
     if (!checkElementType(r, type)) return false;
     nodes->elementTypes |= 1u << type;
@@ -345,7 +353,7 @@ bool elements4(Reader &r, NodeData *nodes) {
     if (entity == nodes->entityTag.end() && nodes->facets) nodes->facets->known = false;
     const int tag = entity == nodes->entityTag.end() ? -1 : entity->second;
     for (long i = 0; i < n; ++i) {
-      if (!r.numbers(&v, "$Elements", Reader::kAllColumns)) return false;
+      if (!r.numbers(&v, "$Elements", kAllColumns)) return false;
       if (v.size() != static_cast<size_t>(1 + nodesOfType(type))) return r.fail("element line with a wrong number of nodes");
       for (size_t k = 1; k < v.size(); ++k)
         if (!nodes->index.count(static_cast<long>(v[k]))) return r.fail("element uses undefined node " + std::to_string((long)v[k]));
@@ -362,14 +370,16 @@ bool elements4(Reader &r, NodeData *nodes) {
 // and volumes: tag and a bounding box, numPhysical tags..., then their bounding entities).
 bool entities4(Reader &r, NodeData *nodes) {
   std::vector<double> v;
-  if (!r.numbers(&v, "$Entities", Reader::kAllColumns) || v.size() != 4) return r.fail("expected the four entity counts after $Entities");
+  if (!r.numbers(&v, "$Entities", kAllColumns) || v.size() != 4)
+    return r.fail("expected the four entity counts after $Entities");
   const long counts[4] = {static_cast<long>(v[0]), static_cast<long>(v[1]), static_cast<long>(v[2]),
                           static_cast<long>(v[3])};
   for (int dim = 0; dim < 4; ++dim)
     for (long i = 0; i < counts[dim]; ++i) {
       if (!r.numbers(&v, "$Entities", 1)) return false;
       const size_t at = dim == 0 ? 4 : 7;  // numPhysicalTags
-      if (v.size() <= at || !r.integers(v, "$Entities", at)) return r.fail("an entity line too short for its physical tags");
+      if (v.size() <= at) return r.fail("an entity line too short for its physical tags");
+      if (!r.integers(v, "$Entities", at)) return false;
       if (v[at] < 0 || v.size() < at + 1 + static_cast<size_t>(v[at]))
         return r.fail("an entity line too short for its physical tags");
       const int first = v[at] > 0 ? static_cast<int>(v[at + 1]) : -1;
