@@ -13,17 +13,24 @@ and step 2's updates. The summary gives, per energy and nu, the medians over mes
 to nu 0's.
 
 usage: /usr/bin/python3 bench/degenerate_starts.py [--build build] [--energies A,B] [--meshes M,N] [--seeds 1,2,3]
-                                                  [--ranks 1,2] [--timeout S] [--no-static] [--no-before]
-                                                  [--variant "OPTIONS"] [--out NAME]
-  defaults: every energy, mesh, seed 1-3, 1 and 2 ranks, 1800 s per run, the static starts and the runs without the
-  shape stage too (--no-static, --no-before skip them), no variant; --out NAME writes
-  bench/results/NAME.md (default degenerate_starts). A run past --timeout is reported as not converged.
+                                                  [--ranks 1,2] [--nus 0,0.3,0.45] [--timeout S] [--no-static]
+                                                  [--no-before] [--extra "OPTIONS"] [--variant "OPTIONS"] [--out NAME]
+  defaults: the energies iarap, fiber x, fiber oblique and ortho (also known: ortho equal, ortho mild: the ortho
+  basis with equal moduli and with 1.2 : 1 : 0.8), every mesh, seed 1-3, 1 and 2 ranks, nu 0, 0.3 and 0.45, 1800 s
+  per run, the static starts and the runs without the shape stage too (--no-static, --no-before skip them), no
+  variant; --extra adds options to every dynamic run (e.g. "-snes_max_it 60 -on_failure continue": a stalling run then
+  ends with the statistics of where it stalled instead of at --timeout; with the default -on_failure stop, a failed
+  step's row is the last accepted state's); --out NAME writes bench/results/NAME.md (default degenerate_starts). A run past
+  --timeout is reported as not converged. Each run's step-1 min alpha is reported against the band of the
+  singularity mollifier (Eq. 33: alpha in [eps, 3 eps], eps = -mollifier_eps): a run that stalls with its least alpha
+  there is held by the band (see "Where the runs end" in the report).
 """
 import argparse
 import csv
 import datetime
 import json
 import os
+import shlex
 import statistics
 import subprocess
 import sys
@@ -36,7 +43,13 @@ ENERGIES = {
     "fiber x": ["-energy", "fiber", "-gamma", "5e3", "-fiber", "1,0,0"],
     "fiber oblique": ["-energy", "fiber", "-gamma", "5e3", "-fiber", "1,0.5,0.2"],
     "ortho": ["-energy", "ortho", "-ortho_mu", "3846,7692,1923", "-fiber", "1,0.5,0.2", "-fiber2", "0,1,0"],
+    # controls for ortho: the same basis with equal moduli (iarap's energy through the direction terms) and a mild
+    # anisotropy (1.2 : 1 : 0.8); not in the default set
+    "ortho equal": ["-energy", "ortho", "-ortho_mu", "3846,3846,3846", "-fiber", "1,0.5,0.2", "-fiber2", "0,1,0"],
+    "ortho mild": ["-energy", "ortho", "-ortho_mu", "3846,4615,3077", "-fiber", "1,0.5,0.2", "-fiber2", "0,1,0"],
 }
+DEFAULT_ENERGIES = ["iarap", "fiber x", "fiber oblique", "ortho"]
+MOLLIFIER_EPS = 1e-3  # aries' -mollifier_eps default: the band of Eq. (33) is alpha in [eps, 3 eps]
 NUS = ["0", "0.3", "0.45"]
 ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
            OMPI_MCA_rmaps_base_oversubscribe="1")
@@ -69,6 +82,30 @@ def run(build, ranks, args, stats, timeout=1800):
     return proc.returncode, rows, wall, proc.stderr.strip().splitlines()[-1:] if proc.returncode else []
 
 
+def step_converged(reason):
+    """A step's stats reason is a convergence (-on_failure continue keeps going after a failed step: its reason says)."""
+    return reason not in ("", "failed") and not reason.startswith(("diverged", "reason_-"))
+
+
+def mollifier_eps(options):
+    """The band parameter eps of Eq. (33) that a run's options give (the last -mollifier_eps, else aries' default)."""
+    eps = MOLLIFIER_EPS
+    for k, o in enumerate(options[:-1]):
+        if o == "-mollifier_eps":
+            eps = float(options[k + 1])
+    return eps
+
+
+def band_ratio(r):
+    """A run's step-1 least alpha over the top of the mollifier's band, 3 eps (Eq. 33: the band is [eps, 3 eps])."""
+    return r["min_alpha"] / (3.0 * r["eps"])
+
+
+def at_band(r):
+    """The least alpha in the band or at its top edge (within 10% above 3 eps), where the I4/I6 terms' forces peak."""
+    return 1.0 / 3.0 <= band_ratio(r) <= 1.1
+
+
 def medians(runs, energy, nu, keys=("updates", "cg", "seconds")):
     """The converged runs of one energy and nu: their count and the median of each key (None if there are none)."""
     rs = [r for r in runs if r["energy"] == energy and r["nu"] == nu and r["ok"]]
@@ -78,11 +115,13 @@ def medians(runs, energy, nu, keys=("updates", "cg", "seconds")):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--build", default=os.path.join(ROOT, "build"))
-    parser.add_argument("--energies", default=",".join(ENERGIES))
+    parser.add_argument("--energies", default=",".join(DEFAULT_ENERGIES))
     parser.add_argument("--meshes", default=",".join(MESHES))
     parser.add_argument("--seeds", default="1,2,3")
     parser.add_argument("--ranks", default="1,2")
+    parser.add_argument("--nus", default=",".join(NUS))
     parser.add_argument("--timeout", type=float, default=1800)
+    parser.add_argument("--extra", default="", help="options added to every dynamic run")
     parser.add_argument("--no-static", action="store_true")
     parser.add_argument("--no-before", action="store_true", help="skip the runs without the shape stage")
     parser.add_argument("--variant", default="", help="solver options every dynamic run is repeated with")
@@ -95,6 +134,11 @@ def main():
     for e in energies:
         if e not in ENERGIES:
             sys.exit(f"degenerate_starts: error: unknown energy '{e}' (known: {', '.join(ENERGIES)})")
+    nus = args.nus.split(",")
+    for nu in nus:
+        if nu not in NUS:
+            sys.exit(f"degenerate_starts: error: --nus: unknown nu '{nu}' (known: {', '.join(NUS)})")
+    extra_all = args.extra.split()
     work = os.path.join(ROOT, "out", "bench", "degenerate_starts")
     os.makedirs(work, exist_ok=True)
     results, lines = [], []
@@ -103,20 +147,21 @@ def main():
     def dynamic(mesh, tets, held, energy, nu, seed, ranks, extra=()):
         a = ["-dm_plex_filename", mesh, "-E", "1e4", "-nu", nu, "-integrator", "beuler", "-dt", "1e-2",
              "-steps", "2", "-density", "1000", "-gravity", "0,0,-9.81", "-initial", "scramble",
-             "-scramble_seed", str(seed), "-bc_box", held] + ENERGIES[energy] + list(extra)
+             "-scramble_seed", str(seed), "-bc_box", held] + ENERGIES[energy] + extra_all + list(extra)
         rc, rows, wall, err = run(args.build, ranks, a, os.path.join(work, "stats.csv"), args.timeout)
-        ok = rc == 0 and len(rows) == 2 and all(r["reason"] not in ("", "failed") for r in rows)
+        ok = rc == 0 and len(rows) == 2 and all(step_converged(r["reason"]) for r in rows)
         s1 = rows[0] if rows else {}
         return dict(mesh=os.path.basename(mesh), tets=tets, energy=energy, nu=nu, seed=seed, ranks=ranks, ok=ok,
                     rc=rc, updates=int(s1.get("newton_its", -1)), cg=int(s1.get("ksp_its", -1)),
                     at_limit=int(s1.get("ksp_at_limit", -1)), seconds=float(s1.get("wall_s", "nan")),
                     step2=int(rows[1]["newton_its"]) if len(rows) > 1 else -1, reason=s1.get("reason", str(err)),
-                    energy_value=float(s1.get("energy", "nan")), extra=" ".join(extra))
+                    energy_value=float(s1.get("energy", "nan")), min_alpha=float(s1.get("min_alpha", "nan")),
+                    eps=mollifier_eps(extra_all + list(extra)), extra=" ".join(extra))
 
     for name in meshes:
         mesh, tets, held = mesh_path(name)
         for energy in energies:
-            for nu in NUS:
+            for nu in nus:
                 for seed in seeds:
                     for ranks in ranks_list:
                         r = dynamic(mesh, tets, held, energy, nu, seed, ranks)
@@ -150,7 +195,7 @@ def main():
     main_runs = [r for r in results if not r["extra"]]
     variant_runs = [r for r in results if r.get("variant")]
     lines += [f"# Degenerate starts with a volume term", "",
-              f"Generated by `bench/degenerate_starts.py {' '.join(sys.argv[1:])}` on {os.cpu_count()} cores, "
+              f"Generated by `bench/degenerate_starts.py {shlex.join(sys.argv[1:])}` on {os.cpu_count()} cores, "
               f"{datetime.datetime.utcnow():%Y-%m-%d %H:%M} UTC, {time.perf_counter() - started:.0f} s. Dynamic "
               "scramble: backward Euler dt 1e-2, density 1000, gravity, E 1e4, 2 steps, the lowest tenth held; "
               "meshes " + ", ".join(f"{m} default" for m in meshes) + f"; seeds {seeds}; ranks {ranks_list}. "
@@ -163,7 +208,7 @@ def main():
               "seconds / nu 0 | step-2 updates |", "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for energy in energies:
         base = None
-        for nu in NUS:
+        for nu in nus:
             count, med = medians(main_runs, energy, nu, ("updates", "cg", "seconds", "step2"))
             if not med:
                 lines.append(f"| {energy} | {nu} | 0 | (no run converged) | | | | | | |")
@@ -180,7 +225,7 @@ def main():
                   "CG / above | seconds / above |", "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
         for energy in energies:
             base = None
-            for nu in NUS:
+            for nu in nus:
                 count, med = medians(variant_runs, energy, nu)
                 ref = medians(main_runs, energy, nu)[1]
                 if not med or not ref:
@@ -196,7 +241,7 @@ def main():
               "| energy | nu | mesh | seed | ranks | step-1 updates | CG | at limit | seconds |",
               "|---|---:|---|---:|---:|---:|---:|---:|---:|"]
     for energy in energies:
-        for nu in NUS:
+        for nu in nus:
             rs = [r for r in main_runs if r["energy"] == energy and r["nu"] == nu]
             if not rs:
                 continue
@@ -230,11 +275,24 @@ def main():
     for r in static:
         lines.append(f"| {r['mesh']} | {r['start']} | {r['nu']} | {r['rc']} | {r['updates']} | {r['cg']} | "
                      f"{r['at_limit']} | {r['seconds']:.2f} | {r['reason']} |")
+    failed = [r for r in results if not r["ok"]]
+    lines += ["", "## Where the runs end (step 1's least alpha against the mollifier's band)", "",
+              "The singularity mollifier (Eq. 33) blends the I4/I6 terms out on alpha in [eps, 3 eps] (eps = "
+              "-mollifier_eps); 'alpha / 3 eps' is step 1's least alpha over the band's top, at the last iterate "
+              "(converged or not). Runs that converged: %d, alpha / 3 eps %s. Runs that did not: %d; of them %d with "
+              "the least alpha in the band or at its top edge (alpha / 3 eps in [1/3, 1.1]), %d below the band." % (
+                  len(results) - len(failed),
+                  "from %.3g to %.3g" % (min(band_ratio(r) for r in results if r["ok"]),
+                                         max(band_ratio(r) for r in results if r["ok"]))
+                  if len(failed) < len(results) else "(none)",
+                  len(failed), sum(at_band(r) for r in failed), sum(band_ratio(r) < 1.0 / 3.0 for r in failed))]
     lines += ["", "## Every dynamic run", "", "| mesh | energy | nu | seed | ranks | converged | step-1 updates | CG | "
-              "at limit | seconds | step-2 updates | options |", "|---|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---|"]
+              "at limit | seconds | step-1 min alpha | alpha / 3 eps | step-2 updates | reason | options |",
+              "|---|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---|---:|---|---|"]
     for r in results:
         lines.append(f"| {r['mesh']} | {r['energy']} | {r['nu']} | {r['seed']} | {r['ranks']} | {r['ok']} | "
-                     f"{r['updates']} | {r['cg']} | {r['at_limit']} | {r['seconds']:.2f} | {r['step2']} | {r['extra']} |")
+                     f"{r['updates']} | {r['cg']} | {r['at_limit']} | {r['seconds']:.2f} | {r['min_alpha']:.3g} | "
+                     f"{band_ratio(r):.3g} | {r['step2']} | {r['reason']} | {' '.join(extra_all + r['extra'].split())} |")
     text = "\n".join(lines) + "\n"
     os.makedirs(os.path.join(ROOT, "bench", "results"), exist_ok=True)
     with open(os.path.join(ROOT, "bench", "results", args.out + ".md"), "w") as f:

@@ -1,5 +1,6 @@
 """End-to-end cases: scrambled and degenerate starts (dynamic and static scrambles, the detached start, a recovered
-body continued at rest, inside-out and scrambled starts on hexahedra and P2)."""
+body continued at rest, where an anisotropic dynamic scramble stalls, inside-out and scrambled starts on hexahedra and
+P2)."""
 import re
 
 from harness import csv_rows, fail
@@ -239,6 +240,41 @@ def case_dynamic_scramble_volume():
                                                                                    r[1]["energy"]))
 
 
+def case_anisotropic_scramble_band():
+    """Where a dynamic scramble with anisotropic terms stops (issue 49's open part, bench/results/
+    degenerate_starts_band.md): ortho with moduli 1.2 : 1 : 0.8 (-ortho_mu 3846,4615,3077, an oblique basis), nu 0,
+    hand test mesh with the bottom tenth boxed, seed 2, backward Euler dt 1e-2, density 1000, gravity, at most 60
+    Newton updates. Its step 1 does not converge, and aries says where it is held: the failed step's line names the
+    cells at the singularity mollifier's band (alpha in [eps, 3 eps], Eq. 33, or just above), at least one (on 1 rank
+    when this was written: one cell, its alpha 3.34e-3 after 40 updates, 3.000e-3 after 45, where the line search
+    failed). The same run with equal
+    moduli (the same direction terms: iarap's energy) converges within 15 updates, and prints no such line. (When the
+    stall is fixed this case must change: the anisotropic run must then converge.)"""
+    tag = "anisotropic_scramble_band_np%d" % ARGS.ranks
+    msh = mesh("hand")
+    lo, hi = meta_box(msh)
+    box = "%g,%g,%g,%g,%g,%g" % (lo[0] - 1, hi[0] + 1, lo[1] - 1, hi[1] + 1, lo[2] - 1, lo[2] + 0.1 * (hi[2] - lo[2]))
+    common = ["-dm_plex_filename", msh, "-energy", "ortho", "-fiber", "1,0.5,0.2", "-fiber2", "0,1,0", "-E", "1e4",
+              "-nu", "0", "-integrator", "beuler", "-dt", "1e-2", "-steps", "1", "-density", "1000", "-gravity",
+              "0,0,-9.81", "-initial", "scramble", "-scramble_seed", "2", "-bc_box", box, "-snes_max_it", "60"]
+    hint = re.compile(r"aries: step 1 did not converge with (\d+) cells? held at the singularity mollifier's band")
+    log, _ = run(common + ["-ortho_mu", "3846,4615,3077", "-stats", out_base(tag + "_mild") + ".csv"], expect_code=3,
+                 tag=tag + "_mild")
+    m = hint.search(log)
+    print("anisotropic: %s" % (m.group(0) if m else "no band line"))
+    if not m or int(m.group(1)) < 1:
+        fail("the failed anisotropic step does not name the cells held at the mollifier's band")
+    log, _ = run(common + ["-ortho_mu", "3846,3846,3846", "-stats", out_base(tag + "_equal") + ".csv"],
+                 tag=tag + "_equal")
+    rows = stats(out_base(tag + "_equal") + ".csv")
+    print("equal moduli: %s updates, %s" % (rows[0]["newton_its"], rows[0]["reason"]))
+    if rows[0]["reason"] not in CONVERGED or int(rows[0]["newton_its"]) > 15:
+        fail("equal moduli: expected convergence within 15 updates: %s, %s" % (rows[0]["newton_its"],
+                                                                               rows[0]["reason"]))
+    if hint.search(log):
+        fail("a converged run printed the mollifier band line")
+
+
 def degenerate_starts(name, element_args, inside_out_mesh, scramble_mesh):
     """The two degenerate starts on one element (the hexahedral and P2 cases): `inside_out_mesh` inside out (x = -X:
     F = -I at every point) under backward Euler at dt 0.2, where every step must converge and the total energy fall
@@ -302,6 +338,7 @@ CASES = {
     "detached_start": case_detached_start,
     "rest_continued": case_rest_continued,
     "dynamic_scramble_volume": case_dynamic_scramble_volume,
+    "anisotropic_scramble_band": case_anisotropic_scramble_band,
     "hex_degenerate_starts": case_hex_degenerate_starts,
     "p2_degenerate_starts": case_p2_degenerate_starts,
 }

@@ -25,28 +25,51 @@ PetscErrorCode DiscretizationT<R, C, NV>::updateBarrierFallback(Vec xLocal, doub
   PetscFunctionReturn(0);
 }
 
-template <int R, int C, int NV>
-PetscErrorCode DiscretizationT<R, C, NV>::barrierActiveCells(Vec xLocal, PetscInt *count) const {
+namespace {
+
+// The owned cells evaluated in singularity mode `mode` whose energies have I4/I6 terms and some point's alpha inside
+// the material's band, `inBand(material, alpha)`, at a local state (collective count).
+template <int R, int C, class Cells, class InBand>
+PetscErrorCode countCellsInSingularBand(MPI_Comm comm, const Cells &cells, int points, Vec xLocal,
+                                        energies::SingularityMode mode, InBand inBand, PetscInt *count) {
   const PetscScalar *x;
   PetscFunctionBeginUser;
   PetscInt local = 0;
   PetscCall(VecGetArrayRead(xLocal, &x));
-  for (size_t c = 0; c < cells_.size(); ++c) {
-    const energies::Material &m = cells_.materialOf(c);
-    if (!cells_.cells()[c].owned || m.singularity.mode != energies::SingularityMode::Barrier ||
-        !energies::energyContainsStretchInvariant(m.kind))
+  for (size_t c = 0; c < cells.size(); ++c) {
+    const energies::Material &m = cells.materialOf(c);
+    if (!cells.cells()[c].owned || m.singularity.mode != mode || !energies::energyContainsStretchInvariant(m.kind))
       continue;
-    for (int p = 0; p < NQ; ++p) {  // a cell counts once, if any of its points is in the barrier's band
-      const double a = energies::elementAlpha<R, C>(cells_.deformationGradient(c, p, x));
-      if (a > 0.0 && a < m.singularity.barrier.eps) {
+    for (int p = 0; p < points; ++p) {  // a cell counts once, if any of its points is in the band
+      if (inBand(m, energies::elementAlpha<R, C>(cells.deformationGradient(c, p, x)))) {
         ++local;
         break;
       }
     }
   }
   PetscCall(VecRestoreArrayRead(xLocal, &x));
-  PetscCallMPI(MPI_Allreduce(&local, count, 1, MPIU_INT, MPI_SUM, comm()));
+  PetscCallMPI(MPI_Allreduce(&local, count, 1, MPIU_INT, MPI_SUM, comm));
   PetscFunctionReturn(0);
+}
+
+}  // namespace
+
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::barrierActiveCells(Vec xLocal, PetscInt *count) const {
+  return countCellsInSingularBand<R, C>(
+      comm(), cells_, NQ, xLocal, energies::SingularityMode::Barrier,
+      [](const energies::Material &m, double a) { return a > 0.0 && a < m.singularity.barrier.eps; }, count);
+}
+
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::mollifierBandCells(Vec xLocal, PetscInt *count) const {
+  return countCellsInSingularBand<R, C>(
+      comm(), cells_, NQ, xLocal, energies::SingularityMode::Mollifier,
+      [](const energies::Material &m, double a) {
+        const double eps = m.singularity.mollifier.eps;
+        return a >= eps && a <= kMollifierBandEdge * 3.0 * eps;
+      },
+      count);
 }
 
 template <int R, int C, int NV>

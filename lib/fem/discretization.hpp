@@ -192,6 +192,13 @@ class Discretization {
   // Cells whose aberration barrier is active at a local state: evaluated in barrier mode (not fallen back to the
   // mollifier) with 0 < alpha < the barrier's eps (collective count).
   virtual PetscErrorCode barrierActiveCells(Vec xLocal, PetscInt *count) const = 0;
+  // Cells held at the mollifier's band at a local state: evaluated with the mollifier, with I4/I6 terms, and some
+  // point's alpha in [eps, kMollifierBandEdge * 3 eps] (the band of Eq. 33 and just above it, where the raw terms'
+  // forces peak; collective count). A failed anisotropic scramble's Newton solve ends with a cell that approaches
+  // alpha = 3 eps from above until the line search fails there (bench/results/degenerate_starts_band.md): the failed
+  // step's hint names them.
+  virtual PetscErrorCode mollifierBandCells(Vec xLocal, PetscInt *count) const = 0;
+  static constexpr double kMollifierBandEdge = 1.5;
 
   virtual PetscInt verticesPerCell() const = 0;  // nodes per element: 4 (tet), 3 (triangle), 8 (hexahedron), 10 (P2)
   virtual const char *outputTopology() const = 0;  // the element type's XDMF TopologyType

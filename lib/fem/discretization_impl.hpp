@@ -57,6 +57,7 @@ class DiscretizationT final : public Discretization, public DiagnosticsView, pub
   PetscErrorCode cellGuard(Vec xLocal, std::vector<double> *guard) const override;
   PetscErrorCode cellQuantities(Vec xLocal, CellQuantities *q) const override;
   PetscErrorCode barrierActiveCells(Vec xLocal, PetscInt *count) const override;
+  PetscErrorCode mollifierBandCells(Vec xLocal, PetscInt *count) const override;
   void mollifierBandTop(std::vector<double> *top) const override;
   void ownedVertexIds(std::vector<PetscInt> *natural, std::vector<PetscInt> *local = nullptr) const override;
   void ownedCellIds(std::vector<PetscInt> *natural) const override;

@@ -360,6 +360,15 @@ PetscErrorCode Simulation::advance(double dt, double loadTarget, int depth, Newt
     }
     PetscFunctionReturn(0);
   }
+  {  // where the failed solve stopped: cells held at the mollifier's band (the console's hint)
+    Vec xLocal;
+    PetscInt band = 0;
+    PetscCall(DMGetLocalVector(disc_->dm(), &xLocal));
+    PetscCall(localState(xLocal));
+    PetscCall(disc_->mollifierBandCells(xLocal, &band));
+    PetscCall(DMRestoreLocalVector(disc_->dm(), &xLocal));
+    acc->mollifierBandCells = band;
+  }
   if (opts_.onFailure == FailurePolicy::HalveDt && depth < opts_.maxStepHalvings) {
     const std::string failed = *reason;
     PetscCall(VecCopy(xPrev_, x_));
