@@ -20,8 +20,8 @@ usage: /usr/bin/python3 bench/degenerate_starts.py [--build build] [--energies A
   per run, the static starts and the runs without the shape stage too (--no-static, --no-before skip them), no
   variant; --extra adds options to every dynamic run (e.g. "-snes_max_it 60 -on_failure continue": a stalling run then
   ends with the statistics of where it stalled instead of at --timeout; with the default -on_failure stop, a failed
-  step's row is the last accepted state's); --out NAME writes bench/results/NAME.md (default degenerate_starts). A run past
-  --timeout is reported as not converged. Each run's step-1 min alpha is reported against the band of the
+  step's row is the last accepted state's); --out NAME writes bench/results/NAME.md (default degenerate_starts). A
+  run past --timeout is reported as not converged. Each run's step-1 min alpha is reported against the band of the
   singularity mollifier (Eq. 33: alpha in [eps, 3 eps], eps = -mollifier_eps): a run that stalls with its least alpha
   there is held by the band (see "Where the runs end" in the report).
 """
@@ -83,7 +83,7 @@ def run(build, ranks, args, stats, timeout=1800):
 
 
 def step_converged(reason):
-    """A step's stats reason is a convergence (-on_failure continue keeps going after a failed step: its reason says)."""
+    """A step's stats reason is a convergence (-on_failure continue goes on after a failed step: its reason says)."""
     return reason not in ("", "failed") and not reason.startswith(("diverged", "reason_-"))
 
 
@@ -292,7 +292,8 @@ def main():
     for r in results:
         lines.append(f"| {r['mesh']} | {r['energy']} | {r['nu']} | {r['seed']} | {r['ranks']} | {r['ok']} | "
                      f"{r['updates']} | {r['cg']} | {r['at_limit']} | {r['seconds']:.2f} | {r['min_alpha']:.3g} | "
-                     f"{band_ratio(r):.3g} | {r['step2']} | {r['reason']} | {' '.join(extra_all + r['extra'].split())} |")
+                     f"{band_ratio(r):.3g} | {r['step2']} | {r['reason']} | "
+                     f"{' '.join(extra_all + r['extra'].split())} |")
     text = "\n".join(lines) + "\n"
     os.makedirs(os.path.join(ROOT, "bench", "results"), exist_ok=True)
     with open(os.path.join(ROOT, "bench", "results", args.out + ".md"), "w") as f:

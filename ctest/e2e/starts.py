@@ -243,36 +243,47 @@ def case_dynamic_scramble_volume():
 def case_anisotropic_scramble_band():
     """Where a dynamic scramble with anisotropic terms stops (issue 49's open part, bench/results/
     degenerate_starts_band.md): ortho with moduli 1.2 : 1 : 0.8 (-ortho_mu 3846,4615,3077, an oblique basis), nu 0,
-    hand test mesh with the bottom tenth boxed, seed 2, backward Euler dt 1e-2, density 1000, gravity, at most 60
-    Newton updates. Its step 1 does not converge, and aries says where it is held: the failed step's line names the
-    cells at the singularity mollifier's band (alpha in [eps, 3 eps], Eq. 33, or just above), at least one (on 1 rank
-    when this was written: one cell, its alpha 3.34e-3 after 40 updates, 3.000e-3 after 45, where the line search
-    failed). The same run with equal
-    moduli (the same direction terms: iarap's energy) converges within 15 updates, and prints no such line. (When the
-    stall is fixed this case must change: the anisotropic run must then converge.)"""
+    hand test mesh with the bottom tenth boxed, backward Euler dt 1e-2, density 1000, gravity, at most 60 Newton
+    updates, seeds 2 and 4. At least one of the two fails, and every failed step says where it is held: its line names
+    the cells at the singularity mollifier's band (alpha in [eps, 3 eps], Eq. 33, or just above), at least one. (When
+    this was written both failed on 1 and 2 ranks, each with one cell at alpha 0.998-1.09 x 3 eps; seed 3 converged,
+    seed 1 on 2 ranks stopped at 1.59 x 3 eps.) The same runs with equal moduli (the same direction terms: iarap's
+    energy) converge within 15 updates and print no such line. (When the stall is fixed this case must change: the
+    anisotropic runs must then converge.)"""
     tag = "anisotropic_scramble_band_np%d" % ARGS.ranks
     msh = mesh("hand")
     lo, hi = meta_box(msh)
     box = "%g,%g,%g,%g,%g,%g" % (lo[0] - 1, hi[0] + 1, lo[1] - 1, hi[1] + 1, lo[2] - 1, lo[2] + 0.1 * (hi[2] - lo[2]))
     common = ["-dm_plex_filename", msh, "-energy", "ortho", "-fiber", "1,0.5,0.2", "-fiber2", "0,1,0", "-E", "1e4",
               "-nu", "0", "-integrator", "beuler", "-dt", "1e-2", "-steps", "1", "-density", "1000", "-gravity",
-              "0,0,-9.81", "-initial", "scramble", "-scramble_seed", "2", "-bc_box", box, "-snes_max_it", "60"]
+              "0,0,-9.81", "-initial", "scramble", "-bc_box", box, "-snes_max_it", "60"]
     hint = re.compile(r"aries: step 1 did not converge with (\d+) cells? held at the singularity mollifier's band")
-    log, _ = run(common + ["-ortho_mu", "3846,4615,3077", "-stats", out_base(tag + "_mild") + ".csv"], expect_code=3,
-                 tag=tag + "_mild")
-    m = hint.search(log)
-    print("anisotropic: %s" % (m.group(0) if m else "no band line"))
-    if not m or int(m.group(1)) < 1:
-        fail("the failed anisotropic step does not name the cells held at the mollifier's band")
-    log, _ = run(common + ["-ortho_mu", "3846,3846,3846", "-stats", out_base(tag + "_equal") + ".csv"],
-                 tag=tag + "_equal")
-    rows = stats(out_base(tag + "_equal") + ".csv")
-    print("equal moduli: %s updates, %s" % (rows[0]["newton_its"], rows[0]["reason"]))
-    if rows[0]["reason"] not in CONVERGED or int(rows[0]["newton_its"]) > 15:
-        fail("equal moduli: expected convergence within 15 updates: %s, %s" % (rows[0]["newton_its"],
-                                                                               rows[0]["reason"]))
-    if hint.search(log):
-        fail("a converged run printed the mollifier band line")
+    failed = 0
+    for seed in ("2", "4"):
+        label = "%s_mild_seed%s" % (tag, seed)
+        log, code = run(common + ["-scramble_seed", seed, "-ortho_mu", "3846,4615,3077", "-stats",
+                                  out_base(label) + ".csv"], expect_code=None, tag=label)
+        m = hint.search(log)
+        print("anisotropic, seed %s: exit %d, %s" % (seed, code, m.group(0) if m else "no band line"))
+        if code not in (0, 3):
+            fail("anisotropic, seed %s: exit code %d (expected 0, or 3 for a failed step)" % (seed, code))
+        if code == 3:
+            failed += 1
+            if not m or int(m.group(1)) < 1:
+                fail("anisotropic, seed %s: the failed step does not name the cells held at the mollifier's band"
+                     % seed)
+        label = "%s_equal_seed%s" % (tag, seed)
+        log, _ = run(common + ["-scramble_seed", seed, "-ortho_mu", "3846,3846,3846", "-stats",
+                               out_base(label) + ".csv"], tag=label)
+        rows = stats(out_base(label) + ".csv")
+        print("equal moduli, seed %s: %s updates, %s" % (seed, rows[0]["newton_its"], rows[0]["reason"]))
+        if rows[0]["reason"] not in CONVERGED or int(rows[0]["newton_its"]) > 15:
+            fail("equal moduli, seed %s: expected convergence within 15 updates: %s, %s" % (
+                seed, rows[0]["newton_its"], rows[0]["reason"]))
+        if hint.search(log):
+            fail("equal moduli, seed %s: a converged run printed the mollifier band line" % seed)
+    if not failed:
+        fail("neither anisotropic scramble failed: if the stall is fixed, make this case require their convergence")
 
 
 def degenerate_starts(name, element_args, inside_out_mesh, scramble_mesh):

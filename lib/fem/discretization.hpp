@@ -198,7 +198,7 @@ class Discretization {
   // alpha = 3 eps from above until the line search fails there (bench/results/degenerate_starts_band.md): the failed
   // step's hint names them.
   virtual PetscErrorCode mollifierBandCells(Vec xLocal, PetscInt *count) const = 0;
-  static constexpr double kMollifierBandEdge = 1.5;
+  static constexpr double kMollifierBandEdge = 2.0;
 
   virtual PetscInt verticesPerCell() const = 0;  // nodes per element: 4 (tet), 3 (triangle), 8 (hexahedron), 10 (P2)
   virtual const char *outputTopology() const = 0;  // the element type's XDMF TopologyType
