@@ -29,6 +29,7 @@ import argparse
 import csv
 import datetime
 import json
+import math
 import os
 import shlex
 import statistics
@@ -82,9 +83,15 @@ def run(build, ranks, args, stats, timeout=1800):
     return proc.returncode, rows, wall, proc.stderr.strip().splitlines()[-1:] if proc.returncode else []
 
 
+# aries' reasons of a converged step (solver::reasonName; a step recovered by -on_failure halve_dt appends
+# "|halved:<failure>" to its final reason). Anything else is a failure: diverged_*, safeguard_load, ...
+CONVERGED_REASONS = {"converged_initial", "newton_step", "step_bound", "energy_roundoff", "fnorm_abs", "fnorm_rel",
+                     "snorm_rel", "its"}
+
+
 def step_converged(reason):
     """A step's stats reason is a convergence (-on_failure continue goes on after a failed step: its reason says)."""
-    return reason not in ("", "failed") and not reason.startswith(("diverged", "reason_-"))
+    return reason.split("|")[0] in CONVERGED_REASONS
 
 
 def mollifier_eps(options):
@@ -201,8 +208,8 @@ def main():
               "meshes " + ", ".join(f"{m} default" for m in meshes) + f"; seeds {seeds}; ranks {ranks_list}. "
               "Step 1 unless said.", "",
               f"Every dynamic run converged in both steps: **{all(r['ok'] for r in main_runs)}** "
-              f"({sum(r['ok'] for r in main_runs)} of {len(main_runs)}); step-1 linear solves at -ksp_max_it in all "
-              f"runs: **{sum(r['at_limit'] for r in main_runs)}**.", "",
+              f"({sum(r['ok'] for r in main_runs)} of {len(main_runs)}); step-1 linear solves at -ksp_max_it in these "
+              f"runs (the variant's not counted): **{sum(r['at_limit'] for r in main_runs)}**.", "",
               "## Medians per energy and nu (over meshes, seeds and ranks)", "",
               "| energy | nu | runs | step-1 updates | CG iterations | seconds | updates / nu 0 | CG / nu 0 | "
               "seconds / nu 0 | step-2 updates |", "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
@@ -213,10 +220,12 @@ def main():
             if not med:
                 lines.append(f"| {energy} | {nu} | 0 | (no run converged) | | | | | | |")
                 continue
-            base = base or med
+            if nu == "0":
+                base = med  # the ratios are to nu 0's medians: blank where nu 0 is not run or did not converge
+            ratio = (lambda k: f"{med[k] / base[k]:.2f}") if base else (lambda k: "")
             lines.append(f"| {energy} | {nu} | {count} | {med['updates']:.0f} | {med['cg']:.0f} | "
-                         f"{med['seconds']:.2f} | {med['updates'] / base['updates']:.2f} | {med['cg'] / base['cg']:.2f} | "
-                         f"{med['seconds'] / base['seconds']:.2f} | {med['step2']:.0f} |")
+                         f"{med['seconds']:.2f} | {ratio('updates')} | {ratio('cg')} | {ratio('seconds')} | "
+                         f"{med['step2']:.0f} |")
     if variant_runs:
         lines += ["", f"## With `{args.variant}` (the same runs; medians, ratio to the runs above)", "",
                   f"Every run converged in both steps: **{all(r['ok'] for r in variant_runs)}** "
@@ -232,9 +241,11 @@ def main():
                     lines.append(f"| {energy} | {nu} | {count} | (no comparison: a side did not converge) "
                                  "| | | | | | |")
                     continue
-                base = base or med
+                if nu == "0":
+                    base = med
+                to_nu0 = f"{med['seconds'] / base['seconds']:.2f}" if base else ""
                 lines.append(f"| {energy} | {nu} | {count} | {med['updates']:.0f} | {med['cg']:.0f} | "
-                             f"{med['seconds']:.2f} | {med['seconds'] / base['seconds']:.2f} | "
+                             f"{med['seconds']:.2f} | {to_nu0} | "
                              f"{med['updates'] / ref['updates']:.2f} | {med['cg'] / ref['cg']:.2f} | "
                              f"{med['seconds'] / ref['seconds']:.2f} |")
     lines += ["", "## Worst run per energy and nu", "",
@@ -245,7 +256,7 @@ def main():
             rs = [r for r in main_runs if r["energy"] == energy and r["nu"] == nu]
             if not rs:
                 continue
-            r = max(rs, key=lambda r: (not r["ok"], r["updates"]))
+            r = max(rs, key=lambda r: (not r["ok"], r["updates"], r["cg"], r["seconds"]))
             lines.append(f"| {energy} | {nu} | {r['mesh']} | {r['seed']} | {r['ranks']} | {r['updates']} | {r['cg']} | "
                          f"{r['at_limit']} | {r['seconds']:.2f} |")
     lines += ["", "## Rank independence (step-1 energy, 1 vs 2 ranks)", ""]
@@ -280,12 +291,15 @@ def main():
               "The singularity mollifier (Eq. 33) blends the I4/I6 terms out on alpha in [eps, 3 eps] (eps = "
               "-mollifier_eps); 'alpha / 3 eps' is step 1's least alpha over the band's top, at the last iterate "
               "(converged or not). Runs that converged: %d, alpha / 3 eps %s. Runs that did not: %d; of them %d with "
-              "the least alpha in the band or at its top edge (alpha / 3 eps in [1/3, 1.1]), %d below the band." % (
+              "the least alpha in the band or at its top edge (alpha / 3 eps in [1/3, 1.1]), %d below the band, %d "
+              "without statistics (stopped by --timeout). (aries' console line for a failed step counts the cells "
+              "in [eps, 2 x 3 eps].)" % (
                   len(results) - len(failed),
                   "from %.3g to %.3g" % (min(band_ratio(r) for r in results if r["ok"]),
                                          max(band_ratio(r) for r in results if r["ok"]))
                   if len(failed) < len(results) else "(none)",
-                  len(failed), sum(at_band(r) for r in failed), sum(band_ratio(r) < 1.0 / 3.0 for r in failed))]
+                  len(failed), sum(at_band(r) for r in failed), sum(band_ratio(r) < 1.0 / 3.0 for r in failed),
+                  sum(math.isnan(r["min_alpha"]) for r in failed))]
     lines += ["", "## Every dynamic run", "", "| mesh | energy | nu | seed | ranks | converged | step-1 updates | CG | "
               "at limit | seconds | step-1 min alpha | alpha / 3 eps | step-2 updates | reason | options |",
               "|---|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---|---:|---|---|"]

@@ -70,7 +70,8 @@ struct NewtonResult {
   PetscInt barrierFallbackCells = 0;  // cells evaluated with the mollifier in barrier mode (alpha ~ 0)
   PetscInt barrierActiveCells = 0;    // cells with an active aberration barrier (0 < alpha < eps) at the step start
   PetscInt mollifierBandCells = 0;    // a failed step: cells at the mollifier's band at its last iterate
-                                      // (fem::Discretization::mollifierBandCells)
+                                      // (fem::Discretization::mollifierBandCells), set by Simulation::advance on
+                                      // the step's result; += leaves it (a solve's own result never sets it)
   PetscReal residualNorm = 0.0;       // |gradient of the potential|_2 over the free dofs at the last iterate
   double assemblySeconds = 0.0;       // wall time in the model's energy, gradient, Hessian and curvature evaluations
   std::vector<IterationRecord> history;

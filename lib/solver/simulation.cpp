@@ -353,6 +353,7 @@ PetscErrorCode Simulation::advance(double dt, double loadTarget, int depth, Newt
   }
   PetscCall(solveToLoad(loadTarget, acc, ok, reason));
   if (*ok) {
+    acc->mollifierBandCells = 0;  // a half step that recovered a failed attempt: nothing held
     syntheticStart_ = false;
     if (dynamic) {
       PetscCall(VecWAXPY(v_, -1.0, xPrev_, x_));
