@@ -113,6 +113,11 @@ def at_band(r):
     return 1.0 / 3.0 <= band_ratio(r) <= 1.1
 
 
+def to_nu0(med, base, key):
+    """A median over nu 0's for the same energy, as table text; blank where nu 0 is not run or did not converge."""
+    return f"{med[key] / base[key]:.2f}" if base else ""
+
+
 def medians(runs, energy, nu, keys=("updates", "cg", "seconds")):
     """The converged runs of one energy and nu: their count and the median of each key (None if there are none)."""
     rs = [r for r in runs if r["energy"] == energy and r["nu"] == nu and r["ok"]]
@@ -221,11 +226,10 @@ def main():
                 lines.append(f"| {energy} | {nu} | 0 | (no run converged) | | | | | | |")
                 continue
             if nu == "0":
-                base = med  # the ratios are to nu 0's medians: blank where nu 0 is not run or did not converge
-            ratio = (lambda k: f"{med[k] / base[k]:.2f}") if base else (lambda k: "")
+                base = med
             lines.append(f"| {energy} | {nu} | {count} | {med['updates']:.0f} | {med['cg']:.0f} | "
-                         f"{med['seconds']:.2f} | {ratio('updates')} | {ratio('cg')} | {ratio('seconds')} | "
-                         f"{med['step2']:.0f} |")
+                         f"{med['seconds']:.2f} | {to_nu0(med, base, 'updates')} | {to_nu0(med, base, 'cg')} | "
+                         f"{to_nu0(med, base, 'seconds')} | {med['step2']:.0f} |")
     if variant_runs:
         lines += ["", f"## With `{args.variant}` (the same runs; medians, ratio to the runs above)", "",
                   f"Every run converged in both steps: **{all(r['ok'] for r in variant_runs)}** "
@@ -243,9 +247,8 @@ def main():
                     continue
                 if nu == "0":
                     base = med
-                to_nu0 = f"{med['seconds'] / base['seconds']:.2f}" if base else ""
                 lines.append(f"| {energy} | {nu} | {count} | {med['updates']:.0f} | {med['cg']:.0f} | "
-                             f"{med['seconds']:.2f} | {to_nu0} | "
+                             f"{med['seconds']:.2f} | {to_nu0(med, base, 'seconds')} | "
                              f"{med['updates'] / ref['updates']:.2f} | {med['cg'] / ref['cg']:.2f} | "
                              f"{med['seconds'] / ref['seconds']:.2f} |")
     lines += ["", "## Worst run per energy and nu", "",
