@@ -23,7 +23,9 @@ usage: /usr/bin/python3 bench/degenerate_starts.py [--build build] [--energies A
   step's row is the last accepted state's); --out NAME writes bench/results/NAME.md (default degenerate_starts). A
   run past --timeout is reported as not converged. Each run's step-1 min alpha is reported against the band of the
   singularity mollifier (Eq. 33: alpha in [eps, 3 eps], eps = -mollifier_eps): a run that stalls with its least alpha
-  there is held by the band (see "Where the runs end" in the report).
+  there is held by the band (see "Where the runs end" in the report), and the signed principal stretches of the cell
+  with that alpha, read from step 1's written state (-output_fields alpha,principal_stretches), with their relative
+  gap (s2 + s3) / s2: how close the cell is to the singular set s2 = -s3 of I4 (Sec. 4).
 """
 import argparse
 import csv
@@ -33,9 +35,12 @@ import math
 import os
 import shlex
 import statistics
+import shutil
 import subprocess
 import sys
 import time
+
+import h5py
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 MESHES = ["camel", "triceratops", "hand"]  # meshes/generate.sh NAME default: 16.6k, 30.2k, 34.1k tets
@@ -103,6 +108,26 @@ def mollifier_eps(options):
     return eps
 
 
+def least_alpha_stretches(path):
+    """The signed principal stretches (s1 >= s2 >= |s3|; s3 < 0: inverted) of the cell with the least alpha in a
+    written state, or None where the step wrote none (a run stopped before it)."""
+    if not os.path.exists(path):
+        return None
+    with h5py.File(path, "r") as f:
+        alpha = f["cell/alpha"][()].ravel()
+        stretches = f["cell/principal_stretches"][()].reshape(-1, 3)
+    return [float(v) for v in stretches[int(alpha.argmin())]]
+
+
+def relative_gap(s):
+    """(s2 + s3) / s2 of signed principal stretches: 0 on the singular set of I4 (alpha = 8 (s1+s2)(s1+s3)(s2+s3))."""
+    return (s[1] + s[2]) / s[1] if s else float("nan")
+
+
+def stretches_text(s):
+    return ", ".join("%.3g" % v for v in s) if s else "-"
+
+
 def band_ratio(r):
     """A run's step-1 least alpha over the top of the mollifier's band, 3 eps (Eq. 33: the band is [eps, 3 eps])."""
     return r["min_alpha"] / (3.0 * r["eps"])
@@ -160,6 +185,9 @@ def main():
         a = ["-dm_plex_filename", mesh, "-E", "1e4", "-nu", nu, "-integrator", "beuler", "-dt", "1e-2",
              "-steps", "2", "-density", "1000", "-gravity", "0,0,-9.81", "-initial", "scramble",
              "-scramble_seed", str(seed), "-bc_box", held] + ENERGIES[energy] + extra_all + list(extra)
+        state = os.path.join(work, "state")
+        shutil.rmtree(state + ".steps", ignore_errors=True)
+        a += ["-output", state, "-output_fields", "alpha,principal_stretches"]
         rc, rows, wall, err = run(args.build, ranks, a, os.path.join(work, "stats.csv"), args.timeout)
         ok = rc == 0 and len(rows) == 2 and all(step_converged(r["reason"]) for r in rows)
         s1 = rows[0] if rows else {}
@@ -168,7 +196,8 @@ def main():
                     at_limit=int(s1.get("ksp_at_limit", -1)), seconds=float(s1.get("wall_s", "nan")),
                     step2=int(rows[1]["newton_its"]) if len(rows) > 1 else -1, reason=s1.get("reason", str(err)),
                     energy_value=float(s1.get("energy", "nan")), min_alpha=float(s1.get("min_alpha", "nan")),
-                    eps=mollifier_eps(extra_all + list(extra)), extra=" ".join(extra))
+                    eps=mollifier_eps(extra_all + list(extra)), extra=" ".join(extra),
+                    stretches=least_alpha_stretches(state + ".steps/state_000001.h5"))
 
     for name in meshes:
         mesh, tets, held = mesh_path(name)
@@ -303,13 +332,26 @@ def main():
                   if len(failed) < len(results) else "(none)",
                   len(failed), sum(at_band(r) for r in failed), sum(band_ratio(r) < 1.0 / 3.0 for r in failed),
                   sum(math.isnan(r["min_alpha"]) for r in failed))]
+    held = [r for r in failed if at_band(r) and r["stretches"]]
+    if held:
+        lines += ["", "The least-alpha cell of each of those %d failed runs held at the band: inverted in %d (s3 < 0), "
+                  "stretches s1 from %.3g to %.3g and s2 from %.3g to %.3g, relative gap (s2 + s3) / s2 from %.3g to "
+                  "%.3g. Near s2 = -s3, alpha = 8 (s1+s2)(s1+s3)(s2+s3) is linear in the gap with the factor 8 (s1+s2)"
+                  "(s1+s3): the larger the stretches, the smaller the gap at the band's top (alpha = 3 eps), and the "
+                  "I4 terms' derivatives grow with its inverse powers." % (
+                      len(held), sum(r["stretches"][2] < 0 for r in held),
+                      min(r["stretches"][0] for r in held), max(r["stretches"][0] for r in held),
+                      min(r["stretches"][1] for r in held), max(r["stretches"][1] for r in held),
+                      min(relative_gap(r["stretches"]) for r in held), max(relative_gap(r["stretches"]) for r in held))]
     lines += ["", "## Every dynamic run", "", "| mesh | energy | nu | seed | ranks | converged | step-1 updates | CG | "
-              "at limit | seconds | step-1 min alpha | alpha / 3 eps | step-2 updates | reason | options |",
-              "|---|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---|---:|---|---|"]
+              "at limit | seconds | step-1 min alpha | alpha / 3 eps | its cell's stretches | (s2 + s3) / s2 | "
+              "step-2 updates | reason | options |",
+              "|---|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---|---|---:|---:|---|---|"]
     for r in results:
         lines.append(f"| {r['mesh']} | {r['energy']} | {r['nu']} | {r['seed']} | {r['ranks']} | {r['ok']} | "
                      f"{r['updates']} | {r['cg']} | {r['at_limit']} | {r['seconds']:.2f} | {r['min_alpha']:.3g} | "
-                     f"{band_ratio(r):.3g} | {r['step2']} | {r['reason']} | "
+                     f"{band_ratio(r):.3g} | {stretches_text(r['stretches'])} | {relative_gap(r['stretches']):.3g} | "
+                     f"{r['step2']} | {r['reason']} | "
                      f"{' '.join(extra_all + r['extra'].split())} |")
     text = "\n".join(lines) + "\n"
     os.makedirs(os.path.join(ROOT, "bench", "results"), exist_ok=True)

@@ -61,6 +61,18 @@ def read_state(base, step=None):
     return rest, cells, x, alpha
 
 
+def read_cell_field(base, name):
+    """A cell field of the last written step (written with -output_fields NAME), one row per cell."""
+    files = step_files(base)
+    if not files:
+        fail("no output steps for " + base)
+    with h5py.File(files[-1], "r") as f:
+        if "/cell/" + name not in f:
+            fail("%s: no cell field %s (not in -output_fields?)" % (files[-1], name))
+        values = f["/cell/" + name][:]
+    return values.reshape(len(values), -1)
+
+
 def shape_error(base, rigid):
     """Max distance of the final state to rest over L (rigid: after the best rotation + translation, for
     free-floating bodies), via scripts/shape_error.py; and L."""

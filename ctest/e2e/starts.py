@@ -4,8 +4,8 @@ P2)."""
 import re
 
 from harness import csv_rows, fail
-from .common import (ARGS, CONVERGED, distance_to_rest, mesh, meta_box, out_base, read_state, run, shape_error,
-                     sized_mesh, solve_blocks, static_scramble_args, stats)
+from .common import (ARGS, CONVERGED, distance_to_rest, mesh, meta_box, out_base, read_cell_field, read_state, run,
+                     shape_error, sized_mesh, solve_blocks, static_scramble_args, stats)
 
 
 def case_scramble():
@@ -250,8 +250,11 @@ def case_anisotropic_scramble_band():
     from the written alpha field); a converged step prints none. At least one of the three must fail (when this was
     written all three failed on 1 and 2 ranks, each with one cell held, at 0.998-1.09 x 3 eps, seed 1 on 2 ranks at
     1.59 x 3 eps; seed 3 converges). The same starts with equal moduli (the same direction terms: iarap's energy)
-    converge within 15 updates. (When the stall is fixed this case must change: the anisotropic runs must then
-    converge.)"""
+    converge within 15 updates. Every held cell is inverted next to I4's singular set s2 = -s3 (its signed principal
+    stretches, written with the state: s3 < 0 and (s2 + s3) / s2 < 1e-3; when this was written, stretches s1 4.4-6.2
+    and s2 2.2-2.8 with the gap 5e-6 to 1.3e-5 on 1 rank): stretched cells meet the band's top alpha = 3 eps at a
+    far smaller gap than cells near rest do, since alpha = 8 (s1+s2)(s1+s3)(s2+s3). (When the stall is fixed this
+    case must change: the anisotropic runs must then converge.)"""
     tag = "anisotropic_scramble_band_np%d" % ARGS.ranks
     msh = mesh("hand")
     lo, hi = meta_box(msh)
@@ -265,11 +268,20 @@ def case_anisotropic_scramble_band():
     for seed in ("2", "4", "1"):
         base = out_base("%s_mild_seed%s" % (tag, seed))
         log, _ = run(common + ["-scramble_seed", seed, "-ortho_mu", "3846,4615,3077", "-on_failure", "continue",
-                               "-output", base, "-output_fields", "alpha", "-stats", base + ".csv"],
+                               "-output", base, "-output_fields", "alpha,principal_stretches", "-stats",
+                               base + ".csv"],
                      tag=tag + "_mild_seed" + seed)
         reason = stats(base + ".csv")[0]["reason"]
-        alpha = read_state(base)[3]
-        held = int(((alpha >= eps) & (alpha <= edge * 3.0 * eps)).sum())
+        alpha = read_state(base)[3].ravel()
+        in_band = (alpha >= eps) & (alpha <= edge * 3.0 * eps)
+        held = int(in_band.sum())
+        stretches = read_cell_field(base, "principal_stretches")[in_band]
+        for s1, s2, s3 in stretches:
+            print("  held cell: signed principal stretches %.4g, %.4g, %.4g, (s2 + s3) / s2 = %.3g" % (
+                s1, s2, s3, (s2 + s3) / s2))
+            if not (s3 < 0 and (s2 + s3) / s2 < 1e-3):
+                fail("anisotropic, seed %s: a held cell is not inverted next to s2 = -s3: stretches %g, %g, %g" % (
+                    seed, s1, s2, s3))
         m = hint.search(log)
         print("anisotropic, seed %s: %s, %d cells in [eps, %g x 3 eps] at the last iterate (least alpha %.4g); %s" % (
             seed, reason, held, edge, alpha.min(), m.group(0) if m else "no band line"))
