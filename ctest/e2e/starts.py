@@ -272,7 +272,7 @@ def case_anisotropic_scramble_band():
                                base + ".csv"],
                      tag=tag + "_mild_seed" + seed)
         reason = stats(base + ".csv")[0]["reason"]
-        alpha = read_state(base)[3].ravel()
+        alpha = read_cell_field(base, "alpha")[:, 0]
         in_band = (alpha >= eps) & (alpha <= edge * 3.0 * eps)
         held = int(in_band.sum())
         stretches = read_cell_field(base, "principal_stretches")[in_band]
