@@ -1,6 +1,7 @@
 """End-to-end cases: scrambled and degenerate starts (dynamic and static scrambles, the detached start, a recovered
 body continued at rest, where an anisotropic dynamic scramble stalls, inside-out and scrambled starts on hexahedra and
 P2)."""
+import math
 import re
 
 from harness import csv_rows, fail
@@ -198,12 +199,15 @@ def case_rest_continued():
 
 def case_dynamic_scramble_volume():
     """A dynamic scramble with a volume term (iarap, nu 0.3; hand test mesh, the bottom tenth boxed, seed 2; backward
-    Euler, 2 steps of 1e-2, density 1000, gravity). Its scrambled start holds ~1e3 times as much volume-term energy as
-    other elastic energy, so step 1 begins with the shape stage (-beuler_shape_first, default 10): -newton_history
-    shows step 1 as two Newton solves (the iteration count restarts), step 2 as one (a moving body: no stage). With the
-    stage no linear solve of the run stops at -ksp_max_it and step 1 takes at most a third of the CG iterations of the
-    same run without it (-beuler_shape_first 0, run here too: 6.8k against 28.6k on 2 ranks when this was written; on
-    the 16.6k-tet camel 6.8k against 430k, bench/degenerate_starts.py); both runs converge every step and the elastic
+    Euler, 2 steps of 1e-2, density 1000, gravity). Its scrambled start holds ~1e3 times as much volume-term energy
+    as other elastic energy, so step 1 begins with the shape stage (-beuler_shape_first, default 10):
+    -newton_history shows step 1 as two Newton solves (the iteration count restarts), step 2 as one (a moving body:
+    no stage). The stage ends at its own tolerance (-beuler_shape_first_tol, default 0.1 L), not the full solve's
+    (-newton_tol 1e-2 L dt): its last direction is at most 0.1 L and over 10 times the full tolerance (9.3e-3 L and
+    1e-4 L when this was written: one update, then that direction as the final correction). With the stage no linear
+    solve of the run stops at -ksp_max_it and step 1 takes at most a third of the CG iterations of the same run
+    without it (-beuler_shape_first 0, run here too: 6.6k against 28.6k on 2 ranks when this was written; on the
+    16.6k-tet camel 5.9k against 430k, bench/degenerate_starts.py); both runs converge every step and the elastic
     energy falls from step 1 to step 2. (The two runs need not end in the same state: a scrambled body's step has
     many local minima, and on 2 ranks their energies after step 2 differed by 1.3%.)"""
     tag = "dynamic_scramble_volume_np%d" % ARGS.ranks
@@ -213,9 +217,9 @@ def case_dynamic_scramble_volume():
     common = ["-dm_plex_filename", msh, "-energy", "iarap", "-E", "1e4", "-nu", "0.3", "-integrator", "beuler",
               "-dt", "1e-2", "-steps", "2", "-density", "1000", "-gravity", "0,0,-9.81", "-initial", "scramble",
               "-scramble_seed", "2", "-bc_box", box]
-    runs = {}
+    runs, base_of = {}, {}
     for label, extra in (("stage", []), ("without", ["-beuler_shape_first", "0"])):
-        base = out_base(tag + "_" + label)
+        base = base_of[label] = out_base(tag + "_" + label)
         run(common + extra + ["-stats", base + ".csv", "-newton_history", base + "_newton.csv"], tag=tag + "_" + label)
         runs[label] = (stats(base + ".csv"), csv_rows(base + "_newton.csv"))
     for label, (rows, _) in runs.items():
@@ -229,6 +233,12 @@ def case_dynamic_scramble_volume():
     print("Newton solves per step with the stage (-newton_history): %s" % solves)
     if solves != {"1": 2, "2": 1}:
         fail("expected the shape stage in step 1 only (two solves in step 1, one in step 2): %s" % solves)
+    diag = math.dist(lo, hi)  # L, the rest bounding-box diagonal
+    stage_end = float(solve_blocks(base_of["stage"] + "_newton.csv")[0][-1]["step_inf"]) / diag
+    print("the stage's last direction: %.3e L (its tolerance 0.1 L, the full solve's %.1e L)" % (stage_end, 1e-4))
+    if not 10 * 1e-4 < stage_end <= 0.1:
+        fail("the shape stage ended at a direction of %.3e L: expected its own tolerance (at most 0.1 L, over 10 "
+             "times -newton_tol's 1e-4 L)" % stage_end)
     if sum(int(r["ksp_at_limit"]) for r in rows):
         fail("a linear solve stopped at -ksp_max_it with the shape stage")
     cg, cg_without = int(rows[0]["ksp_its"]), int(runs["without"][0][0]["ksp_its"])

@@ -114,7 +114,7 @@ PetscErrorCode Simulation::detachedStart(NewtonResult *acc) {
     NewtonOptions options;  // the main solver's, overridden by -detached_newton_tol, ...
     PetscCall(readNewtonOptions(false, &opts_.newton, "detached_", &options));
     PetscCall(newton.setup(*detached, options, false, 0.0, &newton_, "detached_", true));
-    if (opts_.detachedShapeFirst) PetscCall(solveShapeFirst(*detached, newton, y, 0.0, acc));  // shape_first.cpp
+    if (opts_.detachedShapeFirst) PetscCall(solveShapeFirst(*detached, newton, y, 0.0, 0.0, acc));  // shape_first.cpp
     PetscCall(newton.solve(y, &result));
   }
   *acc += result;

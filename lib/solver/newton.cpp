@@ -3,6 +3,7 @@
 #include "core/options.hpp"
 #include "solver/local_vec.hpp"
 
+#include <algorithm>
 #include <string>
 
 // Setup and the solve of the projected Newton solver (newton.hpp); the model callbacks and the hooks that run the
@@ -210,7 +211,15 @@ PetscErrorCode NewtonSolver::chooseMatrixType(DM dm, const NewtonSolver *base, b
 PetscErrorCode NewtonSolver::setTimeStep(double dt) {
   PetscFunctionBeginUser;
   ctx_.dt = dt;
-  ctx_.stepTol = opts_.convergence.tol * ctx_.disc->mesh().diagonal * (ctx_.dynamic ? dt : 1.0);
+  ctx_.stepTol = std::max(stepTolLoosened_,
+                          opts_.convergence.tol * ctx_.disc->mesh().diagonal * (ctx_.dynamic ? dt : 1.0));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode NewtonSolver::loosenStepTolerance(double stepTol) {
+  PetscFunctionBeginUser;
+  stepTolLoosened_ = std::max(stepTol, 0.0);
+  PetscCall(setTimeStep(ctx_.dt));
   PetscFunctionReturn(0);
 }
 

@@ -67,6 +67,9 @@ class NewtonSolver {
   PetscErrorCode solve(Vec x, double target, NewtonResult *result, bool *advanced);
   // The time step changed (-on_failure halve_dt): tolerance and step bound follow it.
   PetscErrorCode setTimeStep(double dt);
+  // Converged at a Newton step of inf-norm `stepTol` where that is looser than -newton_tol's, until the next call (0:
+  // -newton_tol's again). For a solve that only moves where another starts (the dynamic shape stage, shape_first.cpp).
+  PetscErrorCode loosenStepTolerance(double stepTol);
 
   // The alpha safeguard's check of a state against reference alphas (AlphaSafeguard::acceptable).
   PetscErrorCode alphaAcceptable(Vec xGlobal, const std::vector<double> &reference, bool *ok);
@@ -123,6 +126,7 @@ class NewtonSolver {
     Vec coupling = nullptr;                              // H_fd d
   } lift_;
   PetscInt kspBefore_ = 0;   // the KSP's total iterations when the solve began
+  double stepTolLoosened_ = 0.0;  // loosenStepTolerance (0: -newton_tol's)
 };
 
 // Short name of a Newton outcome for stats and console ("newton_step", "converged_initial", "diverged_line_search").

@@ -50,6 +50,7 @@ PetscErrorCode readSimulationOptions(SimulationOptions *o) {
     PetscCall(core::get(opt::predictorStart, &ps));
     o->predictorStart = ps;
     PetscCall(core::get(opt::beulerShapeFirst, &o->beulerShapeFirst));
+    if (o->beulerShapeFirst > 0.0) PetscCall(core::get(opt::beulerShapeFirstTol, &o->beulerShapeFirstTol));
   }
   PetscBool nested = PETSC_FALSE;
   PetscCall(core::get(opt::coarseMesh, &o->coarseMeshes, &nested));
@@ -348,7 +349,7 @@ PetscErrorCode Simulation::advance(double dt, double loadTarget, int depth, Newt
   // time) or hurt (an oblique fiber: step 1 past 240 s against 54 s for two steps; bench/degenerate_starts.py).
   if (dynamic && syntheticStart_ && opts_.beulerShapeFirst > 0.0 && !disc_->anyFiberTerms()) {
     PetscCall(PetscLogStagePush(solveStage_));
-    PetscCall(solveShapeFirst(*disc_, newton_, x_, opts_.beulerShapeFirst, acc));
+    PetscCall(solveShapeFirst(*disc_, newton_, x_, opts_.beulerShapeFirst, opts_.beulerShapeFirstTol, acc));
     PetscCall(PetscLogStagePop());
   }
   PetscCall(solveToLoad(loadTarget, acc, ok, reason));

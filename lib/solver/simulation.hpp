@@ -40,6 +40,7 @@ struct SimulationOptions {
   bool detachedStart = false;   // -static_detached_start (static runs from a synthetic start; on by default there)
   bool detachedShapeFirst = true;  // -static_detached_shape_first: the detached relaxation starts without volume terms
   double beulerShapeFirst = 0.0;   // -beuler_shape_first: backward Euler from a start dominated by volume terms, likewise
+  double beulerShapeFirstTol = 0.1;  // -beuler_shape_first_tol: that stage ends at a Newton step of this many L
   std::vector<std::string> coarseMeshes;  // -coarse_mesh, finest first (nested_start.cpp)
   PetscInt coarseSteps = 1;                // -coarse_steps: the first N steps start from the coarse levels (-1: all)
   NewtonOptions newton;            // the Newton solver's (newton_options.hpp); the detached start's own are read
@@ -48,9 +49,10 @@ struct SimulationOptions {
 
 // The shape stage (shape_first.cpp): where the materials' stretch terms alone fix every cell's shape and some material
 // has a volume term, and the volume terms' energy at x exceeds `minRatio` times the other elastic energy (0: always),
-// solves from x with the volume terms suspended (x is restored if that solve fails). Collective.
+// solves from x with the volume terms suspended (x is restored if that solve fails), converged at a Newton step of
+// `stageTol` L (0: the solver's own tolerance). Collective.
 PetscErrorCode solveShapeFirst(fem::Discretization &disc, NewtonSolver &newton, Vec x, double minRatio,
-                               NewtonResult *acc);
+                               double stageTol, NewtonResult *acc);
 
 // Reads every option of the solver layer (the Newton solver's too) into plain data before anything is set up.
 PetscErrorCode readSimulationOptions(SimulationOptions *opts);

@@ -55,6 +55,13 @@ inline constexpr OptionDecl beulerShapeFirst =
                "(see The shape stage below)")
         .byDefault("10")
         .atLeast(0);
+inline constexpr OptionDecl beulerShapeFirstTol =
+    realOption("-beuler_shape_first_tol", "X",
+               "the shape stage of -beuler_shape_first ends once its Newton step is at most X L (L = rest "
+               "bounding-box diagonal): it only moves where the full solve starts, and that solve converges to "
+               "-newton_tol (see The shape stage below)")
+        .byDefault("0.1")
+        .above(0);
 inline constexpr OptionDecl onFailure =
     choiceOption("-on_failure", "stop|halve_dt|continue",
                  "a step whose Newton solve fails: stop (exit code 3, last accepted state written), retry as two half "
@@ -65,7 +72,7 @@ inline constexpr OptionDecl maxStepHalvings =
 
 inline constexpr const OptionDecl *kSteppingOptions[] = {
     &integrator, &dt, &steps, &initial, &scrambleVolumeRatio, &scrambleSeed, &detachedStart, &detachedShapeFirst,
-    &beulerShapeFirst, &predictorStart, &onFailure, &maxStepHalvings};
+    &beulerShapeFirst, &beulerShapeFirstTol, &predictorStart, &onFailure, &maxStepHalvings};
 
 // ---- nested iteration (solver/nested_start.cpp) ----
 using core::wordsOption;
