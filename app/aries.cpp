@@ -59,9 +59,14 @@ PetscErrorCode unusedOptions(std::string *unused, bool atEnd, bool onlyInRun) {
   unused->clear();
   for (PetscInt i = 0; i < n; ++i)
     if (!readLater(names[i]) && (atEnd || !readInRun(names[i])) && (!onlyInRun || readInRun(names[i]))) {
-      const std::string near = core::nearestDeclared(std::string("-") + names[i]);
-      *unused += std::string(unused->empty() ? "" : ", ") + "-" + names[i] +
-                 (near.empty() ? "" : " (did you mean " + near + "?)");
+      const std::string given = std::string("-") + names[i];
+      const std::string near = core::nearestDeclared(given);
+      // A declared option that this configuration does not read (-gamma with -energy iarap) is spelled right: say so
+      // rather than suggest it to itself.
+      const std::string hint = near.empty()    ? ""
+                               : near == given ? " (not read by this configuration)"
+                                               : " (did you mean " + near + "?)";
+      *unused += std::string(unused->empty() ? "" : ", ") + given + hint;
     }
   PetscCall(PetscOptionsLeftRestore(nullptr, &n, &names, &values));
   PetscFunctionReturn(0);

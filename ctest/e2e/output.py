@@ -49,10 +49,12 @@ def case_options_file(name):
 
 def case_unused_option_warning():
     """A misspelled option (-enrgy) does not pass silently: the run goes on with the defaults and stderr carries exactly
-    one line, a warning naming the option; -strict turns it into an error (exit 1)."""
+    one line, a warning naming the option and the declared one it is nearest to (-energy); a declared option that this
+    configuration does not read (-predictor_start in a static run) is named as such, not suggested to itself; -strict
+    turns the warning into an error (exit 1)."""
     tag = "unused_np%d" % ARGS.ranks
-    cmd = aries_cmd(ARGS.aries, ARGS.ranks, ["-dm_plex_filename", mesh("bunny"), "-enrgy", "iarap", "-steps", "1",
-                                             "-output", out_base(tag)])
+    cmd = aries_cmd(ARGS.aries, ARGS.ranks, ["-dm_plex_filename", mesh("bunny"), "-enrgy", "iarap",
+                                             "-predictor_start", "0", "-steps", "1", "-output", out_base(tag)])
     print("$ " + " ".join(cmd), flush=True)
     p = subprocess.run(cmd, capture_output=True, text=True, env=mpi_env(), cwd=ARGS.work, timeout=300)
     err = [l for l in p.stderr.splitlines() if l.strip()]
@@ -61,6 +63,9 @@ def case_unused_option_warning():
         fail("exit code %d, expected 0 (a warning, not an error)" % p.returncode)
     if len(err) != 1 or not err[0].startswith("aries: warning: ") or "-enrgy" not in err[0]:
         fail("expected one 'aries: warning:' line on stderr naming -enrgy")
+    for expected in ("-enrgy (did you mean -energy?)", "-predictor_start (not read by this configuration)"):
+        if expected not in err[0]:
+            fail("the warning line does not say '%s'" % expected)
     if not os.path.exists(out_base(tag) + ".xmf"):
         fail("the run did not write its output")
     run(["-dm_plex_filename", mesh("bunny"), "-enrgy", "iarap", "-steps", "1", "-strict"], expect_code=1,
