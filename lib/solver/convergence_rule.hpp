@@ -32,7 +32,7 @@ struct DirectionMeasures {
   bool linearConverged = false;  // the linear solve that gave the direction solved the system (not truncated)
   int iteration = 0;             // Newton iteration (0: the step's initial state)
   double stepInf = 0.0;          // |p|_inf
-  double stepTol = 0.0;          // -newton_tol * L (* dt)
+  double stepTol = 0.0;          // -newton_tol * L (* dt); in the dynamic shape stage at least its own X L
   double slope = 0.0;            // g . p, the predicted decrease of the linear model
   double roundoff = 0.0;         // round-off of the summed energy (1e3 eps x the sum of its terms' magnitudes)
 };

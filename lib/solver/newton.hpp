@@ -14,11 +14,12 @@
 //    its length.
 //  * Convergence is decided on the Newton direction BEFORE any line search (paper Sec. 6): a step is converged when
 //    the inf-norm of the Newton step from a converged linear solve is at most -newton_tol * L (* dt for backward
-//    Euler), L the rest bounding-box diagonal. That small step is applied as a final correction (no line search, the
-//    safeguard still applies; only where it lowers |g|) and not counted as an update, so a state at rest
-//    converges with 0 updates (reason
-//    converged_initial). Backward Euler with a PSD-filtered Hessian has H >= M / dt^2, which bounds the Newton step
-//    by the residual alone: below the tolerance the step is certified without a linear solve (reason step_bound).
+//    Euler), L the rest bounding-box diagonal (the dynamic shape stage converges at its own, looser X L:
+//    loosenStepTolerance). That small step is applied as a final correction (no line search, the safeguard still
+//    applies; only where it lowers |g|) and not counted as an update, so a state at rest converges with 0 updates
+//    (reason converged_initial). Backward Euler with a PSD-filtered Hessian has H >= M / dt^2, which bounds the
+//    Newton step by the residual alone: below the tolerance the step is certified without a linear solve (reason
+//    step_bound).
 //    A direction whose predicted energy decrease is below the energy's round-off and whose step is within
 //    kRoundoffStepFactor x the tolerance is converged too (energy_roundoff, at any iteration; applied like the final
 //    correction): no line search can measure progress there (convergence_rule.hpp). A longer flat direction is an

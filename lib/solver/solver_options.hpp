@@ -61,7 +61,8 @@ inline constexpr OptionDecl beulerShapeFirstTol =
                "bounding-box diagonal): it only moves where the full solve starts, and that solve converges to "
                "-newton_tol (see The shape stage below)")
         .byDefault("0.1")
-        .above(0);
+        .above(0)
+        .atMost(1);
 inline constexpr OptionDecl onFailure =
     choiceOption("-on_failure", "stop|halve_dt|continue",
                  "a step whose Newton solve fails: stop (exit code 3, last accepted state written), retry as two half "
