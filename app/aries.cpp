@@ -61,8 +61,8 @@ PetscErrorCode unusedOptions(std::string *unused, bool atEnd, bool onlyInRun) {
     if (!readLater(names[i]) && (atEnd || !readInRun(names[i])) && (!onlyInRun || readInRun(names[i]))) {
       const std::string given = std::string("-") + names[i];
       const std::string near = core::nearestDeclared(given);
-      // A declared option that this configuration does not read (-gamma with -energy iarap) is spelled right: say so
-      // rather than suggest it to itself.
+      // An option declared by name that this configuration does not read (-predictor_start in a static run) is
+      // spelled right: say so rather than suggest it to itself (families such as -bc_clamp_<id>_* get no hint).
       const std::string hint = near.empty()    ? ""
                                : near == given ? " (not read by this configuration)"
                                                : " (did you mean " + near + "?)";

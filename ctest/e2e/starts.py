@@ -217,9 +217,9 @@ def case_dynamic_scramble_volume():
     common = ["-dm_plex_filename", msh, "-energy", "iarap", "-E", "1e4", "-nu", "0.3", "-integrator", "beuler",
               "-dt", "1e-2", "-steps", "2", "-density", "1000", "-gravity", "0,0,-9.81", "-initial", "scramble",
               "-scramble_seed", "2", "-bc_box", box]
-    runs, base_of = {}, {}
+    runs = {}
     for label, extra in (("stage", []), ("without", ["-beuler_shape_first", "0"])):
-        base = base_of[label] = out_base(tag + "_" + label)
+        base = out_base(tag + "_" + label)
         run(common + extra + ["-stats", base + ".csv", "-newton_history", base + "_newton.csv"], tag=tag + "_" + label)
         runs[label] = (stats(base + ".csv"), csv_rows(base + "_newton.csv"))
     for label, (rows, _) in runs.items():
@@ -234,7 +234,7 @@ def case_dynamic_scramble_volume():
     if solves != {"1": 2, "2": 1}:
         fail("expected the shape stage in step 1 only (two solves in step 1, one in step 2): %s" % solves)
     diag = math.dist(lo, hi)  # L, the rest bounding-box diagonal
-    stage_end = float(solve_blocks(base_of["stage"] + "_newton.csv")[0][-1]["step_inf"]) / diag
+    stage_end = float(solve_blocks(out_base(tag + "_stage") + "_newton.csv")[0][-1]["step_inf"]) / diag
     print("the stage's last direction: %.3e L (its tolerance 0.1 L, the full solve's %.1e L)" % (stage_end, 1e-4))
     if not 10 * 1e-4 < stage_end <= 0.1:
         fail("the shape stage ended at a direction of %.3e L: expected its own tolerance (at most 0.1 L, over 10 "

@@ -40,7 +40,7 @@ struct SimulationOptions {
   bool detachedStart = false;   // -static_detached_start (static runs from a synthetic start; on by default there)
   bool detachedShapeFirst = true;  // -static_detached_shape_first: the detached relaxation starts without volume terms
   double beulerShapeFirst = 0.0;   // -beuler_shape_first: backward Euler from a start dominated by volume terms, likewise
-  double beulerShapeFirstTol = 0.1;  // -beuler_shape_first_tol: that stage ends at a Newton step of this many L
+  double beulerShapeFirstTol = 0.0;  // -beuler_shape_first_tol (read where that stage runs): it ends at this many L
   std::vector<std::string> coarseMeshes;  // -coarse_mesh, finest first (nested_start.cpp)
   PetscInt coarseSteps = 1;                // -coarse_steps: the first N steps start from the coarse levels (-1: all)
   NewtonOptions newton;            // the Newton solver's (newton_options.hpp); the detached start's own are read
