@@ -223,6 +223,17 @@ PetscErrorCode NewtonSolver::loosenStepTolerance(double stepTol) {
   PetscFunctionReturn(0);
 }
 
+void NewtonSolver::overrideFilter(EigenFilterMode mode) {
+  if (!filter_ || opts_.filter.mode == EigenFilterMode::None) return;
+  filter_->setMode(mode);
+  filterOverride_ = static_cast<int>(mode);
+}
+
+void NewtonSolver::restoreFilter() {
+  if (filter_) filter_->setMode(opts_.filter.mode);
+  filterOverride_ = -1;
+}
+
 // The base solver's PETSc settings that SNESSetFromOptions would otherwise leave at aries' defaults for a prefixed
 // solver: SNES tolerances, line search type, KSP type and tolerances, PC type. Type-specific options (-pc_gamg_*,
 // -ksp_cg_type, ...) apply to the prefixed solver only when given with its prefix.

@@ -71,6 +71,12 @@ class NewtonSolver {
   // Converged at a Newton step of inf-norm `stepTol` where that is looser than -newton_tol's, until the next call (0:
   // -newton_tol's again). For a solve that only moves where another starts (the dynamic shape stage, shape_first.cpp).
   PetscErrorCode loosenStepTolerance(double stepTol);
+  // The solves that begin from now on filter the element Hessians with `mode` (clamp or abs), until
+  // restoreFilter(); not where the filter is off (-psd_projection none, a reference solve). For a run whose start
+  // asks for another filter than -psd_projection's (-beuler_start_psd_projection, Simulation::advance); memory()
+  // carries it, so a restarted run keeps it.
+  void overrideFilter(EigenFilterMode mode);
+  void restoreFilter();
 
   // The alpha safeguard's check of a state against reference alphas (AlphaSafeguard::acceptable).
   PetscErrorCode alphaAcceptable(Vec xGlobal, const std::vector<double> &reference, bool *ok);
@@ -127,6 +133,7 @@ class NewtonSolver {
     Vec coupling = nullptr;                              // H_fd d
   } lift_;
   PetscInt kspBefore_ = 0;   // the KSP's total iterations when the solve began
+  int filterOverride_ = -1;       // overrideFilter's EigenFilterMode (-1: -psd_projection's)
   double stepTolLoosened_ = 0.0;  // loosenStepTolerance (0: -newton_tol's)
 };
 

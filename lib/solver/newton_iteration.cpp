@@ -144,10 +144,19 @@ PetscErrorCode NewtonSolver::inertiaGuess(Mat H) {
   PetscFunctionReturn(0);
 }
 
-NewtonMemory NewtonSolver::memory() const { return filter_ ? filter_->memory() : NewtonMemory{}; }
+NewtonMemory NewtonSolver::memory() const {
+  NewtonMemory m = filter_ ? filter_->memory() : NewtonMemory{};
+  m.filterOverride = filterOverride_;
+  return m;
+}
 
 void NewtonSolver::restore(const NewtonMemory &m) {
   if (filter_) filter_->restore(m);
+  if (m.filterOverride >= static_cast<int>(EigenFilterMode::Clamp) &&
+      m.filterOverride <= static_cast<int>(EigenFilterMode::Abs))
+    overrideFilter(static_cast<EigenFilterMode>(m.filterOverride));
+  else
+    restoreFilter();
 }
 
 PetscErrorCode NewtonSolver::energyAt(Vec x, PetscReal *value, PetscReal *magnitude) {

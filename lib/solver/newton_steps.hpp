@@ -35,10 +35,12 @@
 namespace aries::solver {
 
 // What a Newton solver carries from one solve to the next: the Hessian filter's back-off after failed unfiltered
-// systems (-newton_exact_hessian). Checkpoints keep it (io/checkpoint.hpp).
+// systems (-newton_exact_hessian) and a filter that overrides the run's (NewtonSolver::overrideFilter). Checkpoints
+// keep it (io/checkpoint.hpp).
 struct NewtonMemory {
-  int filterBackoff = 0;  // solves kept filtered after the next failure / 2 (0: none failed lately)
-  int filterSkip = 0;     // solves left that keep the filter
+  int filterBackoff = 0;    // solves kept filtered after the next failure / 2 (0: none failed lately)
+  int filterSkip = 0;       // solves left that keep the filter
+  int filterOverride = -1;  // an EigenFilterMode that overrides -psd_projection's (-1: none)
 };
 
 // One Newton iteration, for -newton_history and the convergence charts.
@@ -251,6 +253,8 @@ class HessianFilter final : public NewtonStep {
   // checkpoint keeps it, so a restarted run takes the same steps as an uninterrupted one.
   NewtonMemory memory() const;
   void restore(const NewtonMemory &m);
+  // The filter of the solves that begin from now on (NewtonSolver::overrideFilter).
+  void setMode(EigenFilterMode mode) { opts_.mode = mode; }
 
  private:
   PetscErrorCode giveUp(NewtonContext &ctx);

@@ -47,14 +47,22 @@ PetscErrorCode volumeEnergyRatio(fem::Discretization &disc, Vec x, double *ratio
 
 }  // namespace
 
+PetscErrorCode volumeDominated(fem::Discretization &disc, Vec x, double minRatio, bool *dominated) {
+  double ratio = 0.0;
+  PetscFunctionBeginUser;
+  PetscCall(volumeEnergyRatio(disc, x, &ratio));
+  *dominated = ratio > minRatio;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode solveShapeFirst(fem::Discretization &disc, NewtonSolver &newton, Vec x, double minRatio,
                                double stageTol, NewtonResult *acc) {
   bool fixes = false;
   PetscFunctionBeginUser;
   if (minRatio > 0.0) {
-    double ratio = 0.0;
-    PetscCall(volumeEnergyRatio(disc, x, &ratio));  // the same number on every rank (reduced energies)
-    if (!(ratio > minRatio)) PetscFunctionReturn(0);
+    bool dominated = false;
+    PetscCall(volumeDominated(disc, x, minRatio, &dominated));
+    if (!dominated) PetscFunctionReturn(0);
   }
   PetscCall(disc.stretchTermsFixShape(&fixes));
   if (!fixes || !disc.suspendVolumeTerms(true)) PetscFunctionReturn(0);

@@ -40,6 +40,8 @@ struct SimulationOptions {
   bool detachedStart = false;   // -static_detached_start (static runs from a synthetic start; on by default there)
   bool detachedShapeFirst = true;  // -static_detached_shape_first: the detached relaxation starts without volume terms
   double beulerShapeFirst = 0.0;   // -beuler_shape_first: backward Euler from a start dominated by volume terms, likewise
+  EigenFilterMode beulerStartProjection = EigenFilterMode::Abs;  // -beuler_start_psd_projection (read by
+                                                                 // Simulation::setup, where the materials are known)
   double beulerShapeFirstTol = 0.0;  // -beuler_shape_first_tol (read where that stage runs): it ends at this many L
   std::vector<std::string> coarseMeshes;  // -coarse_mesh, finest first (nested_start.cpp)
   PetscInt coarseSteps = 1;                // -coarse_steps: the first N steps start from the coarse levels (-1: all)
@@ -53,6 +55,10 @@ struct SimulationOptions {
 // `stageTol` L (0: the solver's own tolerance). Collective.
 PetscErrorCode solveShapeFirst(fem::Discretization &disc, NewtonSolver &newton, Vec x, double minRatio,
                                double stageTol, NewtonResult *acc);
+
+// Whether the volume terms' elastic energy at x exceeds `minRatio` times the other elastic energy (false without
+// volume terms). Collective; the same answer on every rank (reduced energies).
+PetscErrorCode volumeDominated(fem::Discretization &disc, Vec x, double minRatio, bool *dominated);
 
 // Reads every option of the solver layer (the Newton solver's too) into plain data before anything is set up.
 PetscErrorCode readSimulationOptions(SimulationOptions *opts);

@@ -63,6 +63,12 @@ inline constexpr OptionDecl beulerShapeFirstTol =
         .byDefault("0.1")
         .above(0)
         .atMost(1);
+inline constexpr OptionDecl beulerStartProjection =
+    choiceOption("-beuler_start_psd_projection", "clamp|abs",
+                 "beuler from scramble, invert or collapse starts with fiber terms, where no shape stage runs: the "
+                 "eigenvalue filter of every step, in place of -psd_projection's, where the start holds over "
+                 "-beuler_shape_first X times as much volume-term as other elastic energy (see The shape stage below)")
+        .byDefault("abs");
 inline constexpr OptionDecl onFailure =
     choiceOption("-on_failure", "stop|halve_dt|continue",
                  "a step whose Newton solve fails: stop (exit code 3, last accepted state written), retry as two half "
@@ -73,7 +79,7 @@ inline constexpr OptionDecl maxStepHalvings =
 
 inline constexpr const OptionDecl *kSteppingOptions[] = {
     &integrator, &dt, &steps, &initial, &scrambleVolumeRatio, &scrambleSeed, &detachedStart, &detachedShapeFirst,
-    &beulerShapeFirst, &beulerShapeFirstTol, &predictorStart, &onFailure, &maxStepHalvings};
+    &beulerShapeFirst, &beulerShapeFirstTol, &beulerStartProjection, &predictorStart, &onFailure, &maxStepHalvings};
 
 // ---- nested iteration (solver/nested_start.cpp) ----
 using core::wordsOption;
