@@ -27,13 +27,11 @@
 
 namespace aries::solver {
 
-namespace {
-
-// The volume terms' elastic energy at x over the other terms' (0 without volume terms).
-PetscErrorCode volumeEnergyRatio(fem::Discretization &disc, Vec x, double *ratio) {
+// The volume terms' elastic energy at x over the other terms' (0 without volume terms), against minRatio.
+PetscErrorCode volumeDominated(fem::Discretization &disc, Vec x, double minRatio, bool *dominated) {
   PetscReal full = 0.0, shape = 0.0;
   PetscFunctionBeginUser;
-  *ratio = 0.0;
+  *dominated = false;
   if (!disc.suspendVolumeTerms(true)) PetscFunctionReturn(0);  // no volume term (nu = 0): nothing evaluated
   LocalVec local(disc.dm());
   PetscErrorCode ierr = local.fromGlobal(x, &disc);
@@ -41,17 +39,7 @@ PetscErrorCode volumeEnergyRatio(fem::Discretization &disc, Vec x, double *ratio
   disc.suspendVolumeTerms(false);  // before any error returns: the materials are the read ones again
   PetscCall(ierr);
   PetscCall(disc.diagnostics().elasticEnergy(local.get(), &full));
-  *ratio = (full - shape) / std::max(shape, 1e-300);
-  PetscFunctionReturn(0);
-}
-
-}  // namespace
-
-PetscErrorCode volumeDominated(fem::Discretization &disc, Vec x, double minRatio, bool *dominated) {
-  double ratio = 0.0;
-  PetscFunctionBeginUser;
-  PetscCall(volumeEnergyRatio(disc, x, &ratio));
-  *dominated = ratio > minRatio;
+  *dominated = (full - shape) / std::max(shape, 1e-300) > minRatio;
   PetscFunctionReturn(0);
 }
 
