@@ -123,13 +123,14 @@ def meta_box(msh):
 
 
 def solve_blocks(history_csv, step="1"):
-    """The -newton_history rows of one step, split into its Newton solves (each starts at iteration 0)."""
-    blocks = []
+    """The -newton_history rows of one step, split into its Newton solves (column solve)."""
+    blocks, solve = [], None
     for h in csv_rows(history_csv):
         if h["step"] != step:
             continue
-        if h["iteration"] == "0" or not blocks:
+        if h["solve"] != solve:
             blocks.append([])
+            solve = h["solve"]
         blocks[-1].append(h)
     return blocks
 

@@ -67,6 +67,7 @@ PetscErrorCode writeCheckpoint(const solver::Simulation &sim, const core::Natura
             writeScalarAttribute(f, "filter_backoff", H5T_NATIVE_INT, memory.filterBackoff) &&
             writeScalarAttribute(f, "filter_skip", H5T_NATIVE_INT, memory.filterSkip) &&
             writeScalarAttribute(f, "filter_override", H5T_NATIVE_INT, memory.filterOverride) &&
+            writeScalarAttribute(f, "filter_exact_start", H5T_NATIVE_INT, memory.filterExactStart) &&
             writeScalarAttribute(f, "num_vertices", H5T_NATIVE_LLONG, nv) &&
             writeScalarAttribute(f, "num_cells", H5T_NATIVE_LLONG, nc);
   ok = ok && writeStringAttribute(f, "format", kFormat) && writeVersionAttributes(f);
@@ -88,7 +89,8 @@ PetscErrorCode readCheckpoint(const fem::Discretization &disc, const std::string
   std::string err;
   long long step = 0, nv = 0, nc = 0;
   double scalars[2] = {0, 0};
-  int memory[3] = {0, 0, -1};  // NewtonMemory: filter_backoff, filter_skip, filter_override (older checkpoints: none)
+  // NewtonMemory: filter_backoff, filter_skip, filter_override, filter_exact_start (older checkpoints: none)
+  int memory[4] = {0, 0, -1, 0};
   if (rank == 0) {  // the attributes first: a file that is not a checkpoint of this mesh is one clear error
     H5E_auto2_t func;
     void *data;
@@ -119,8 +121,11 @@ PetscErrorCode readCheckpoint(const fem::Discretization &disc, const std::string
                   !readScalarAttribute(f, "filter_backoff", H5T_NATIVE_INT, &memory[0])) ||
                  (H5Aexists(f, "filter_skip") > 0 && !readScalarAttribute(f, "filter_skip", H5T_NATIVE_INT, &memory[1])) ||
                  (H5Aexists(f, "filter_override") > 0 &&
-                  !readScalarAttribute(f, "filter_override", H5T_NATIVE_INT, &memory[2]))) {
-        err = "checkpoint '" + path + "' has malformed attributes filter_backoff / filter_skip / filter_override";
+                  !readScalarAttribute(f, "filter_override", H5T_NATIVE_INT, &memory[2])) ||
+                 (H5Aexists(f, "filter_exact_start") > 0 &&
+                  !readScalarAttribute(f, "filter_exact_start", H5T_NATIVE_INT, &memory[3]))) {
+        err = "checkpoint '" + path +
+              "' has malformed attributes filter_backoff / filter_skip / filter_override / filter_exact_start";
       } else if (nv != mesh.numVerticesGlobal || nc != mesh.numCellsGlobal) {
         err = "checkpoint '" + path + "' was written for a mesh with " + std::to_string(nv) + " vertices and " +
               std::to_string(nc) + " cells, but '" + mesh.filename + "' has " + std::to_string(mesh.numVerticesGlobal) +
@@ -133,7 +138,7 @@ PetscErrorCode readCheckpoint(const fem::Discretization &disc, const std::string
   PetscCall(core::collectiveCheck(comm, !err.empty(), err));
   PetscCallMPI(MPI_Bcast(&step, 1, MPI_LONG_LONG, 0, comm));
   PetscCallMPI(MPI_Bcast(scalars, 2, MPI_DOUBLE, 0, comm));
-  PetscCallMPI(MPI_Bcast(memory, 3, MPI_INT, 0, comm));
+  PetscCallMPI(MPI_Bcast(memory, 4, MPI_INT, 0, comm));
   // Every rank reads its block of rows, then the rows move to the ranks that own those vertices.
   std::vector<PetscInt> natural, local;
   disc.diagnostics().ownedVertexIds(&natural, &local);
@@ -164,7 +169,7 @@ PetscErrorCode readCheckpoint(const fem::Discretization &disc, const std::string
   st->step = static_cast<PetscInt>(step);
   st->time = scalars[0];
   st->load = scalars[1];
-  st->newton = solver::NewtonMemory{memory[0], memory[1], memory[2]};
+  st->newton = solver::NewtonMemory{memory[0], memory[1], memory[2], memory[3]};
   PetscFunctionReturn(0);
 }
 

@@ -1,8 +1,9 @@
 // Checkpoint / restart (-checkpoint_every K, -checkpoint FILE, -restart FILE).
 // A checkpoint is one HDF5 file (written and read in parallel, core/h5_blocks.hpp) with the state in natural (gmsh) vertex
 // order: /positions and /velocities
-// (vertices x 3), and the attributes step, time, load (parameter of the prescribed motion), filter_backoff and
-// filter_skip (the Newton solver's memory, solver::NewtonMemory; a checkpoint without them restarts with none),
+// (vertices x 3), and the attributes step, time, load (parameter of the prescribed motion), filter_backoff,
+// filter_skip, filter_override and filter_exact_start (the Newton solver's memory, solver::NewtonMemory; a checkpoint
+// without them restarts with none),
 // num_vertices, num_cells, format. It is written under a temporary name and renamed when complete, so a run killed at any moment leaves the
 // previous checkpoint intact. Natural ordering makes a checkpoint restartable on any number of ranks.
 #pragma once
@@ -26,7 +27,7 @@ struct CheckpointState {
   std::vector<double> positions, velocities;  // per local vertex (v - vStart), x3; filled on the owned vertices
   PetscInt step = 0;
   double time = 0.0, load = 0.0;
-  solver::NewtonMemory newton;  // the Newton solver's memory (attributes filter_backoff, filter_skip; 0 if absent)
+  solver::NewtonMemory newton;  // the Newton solver's memory (attributes filter_*; none if absent)
 };
 
 // Collective: every rank writes its block of rows (`vertices`: the owned vertices' natural ids) into one file, written

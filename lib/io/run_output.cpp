@@ -117,7 +117,7 @@ PetscErrorCode RunOutput::setup(const OutputOptions &opts, const CheckpointOptio
   if (!opts.newtonHistory.empty()) {
     if (rank == 0) {
       history_ = makeParentDirectory(opts.newtonHistory) ? std::fopen(opts.newtonHistory.c_str(), "w") : nullptr;
-      if (history_) std::fprintf(history_, "step,iteration,energy,residual,step_inf,lambda,ksp_its,filter,subspace,rotation,level,load,lifted,extrapolated\n");
+      if (history_) std::fprintf(history_, "step,iteration,energy,residual,step_inf,lambda,ksp_its,filter,subspace,rotation,level,load,lifted,extrapolated,solve\n");
     }
     PetscCall(core::collectiveCheck(comm_, rank == 0 && !history_,
                                    "cannot open Newton history file '" + opts.newtonHistory +
@@ -287,13 +287,17 @@ PetscErrorCode RunOutput::record(const solver::Simulation &sim, const solver::St
     }
   PetscCall(DMRestoreLocalVector(disc.dm(), &xLocal));
   if (history_) {
-    // The coarse levels' rows first (their solves come first), each marked with its level.
+    // The coarse levels' rows first (their solves come first), each marked with its level; solve counts the step's
+    // Newton solves (a failed unfiltered first system repeats iteration 0 within one solve).
+    int solve = 0;
     for (const auto *rows : {&rep.coarse.history, &rep.newton.history})
-      for (const auto &h : *rows)
-        std::fprintf(history_, "%d,%d,%.17g,%.6e,%.6e,%.6g,%d,%s,%d,%g,%d,%.17g,%d,%g\n", (int)rep.step,
+      for (const auto &h : *rows) {
+        if (h.firstOfSolve || solve == 0) ++solve;
+        std::fprintf(history_, "%d,%d,%.17g,%.6e,%.6e,%.6g,%d,%s,%d,%g,%d,%.17g,%d,%g,%d\n", (int)rep.step,
                      (int)h.iteration, h.energy, h.residual, h.stepInf, h.lambda, (int)h.linearIterations,
                      h.filter == 'a' ? "abs" : h.filter == 'n' ? "none" : "clamp", h.accelerated ? 1 : 0, h.rotation,
-                     h.level, h.load, h.lifted ? 1 : 0, h.extrapolated);
+                     h.level, h.load, h.lifted ? 1 : 0, h.extrapolated, solve);
+      }
     std::fflush(history_);
   }
   const std::string halved =

@@ -28,22 +28,32 @@ PetscErrorCode HessianFilter::beginSolve(NewtonContext &ctx) {
   ctx.disc->setEigenFilter(initial);
   ctx.disc->setAnalyticEigensystem(opts_.analyticEigensystem);
   ctx.disc->setWholeElementFilter(opts_.wholeElement);
-  if (usedExact_ && !gaveUp_) backoff_ = 0;  // the last solve's unfiltered systems were all definite
+  const bool lastDefinite = usedExact_ && !gaveUp_;  // the last solve's unfiltered systems were all definite
+  if (lastDefinite) backoff_ = 0;
   exactNow_ = usedExact_ = false;
   gaveUp_ = skip_ > 0;  // backing off: this solve keeps the filter
   if (skip_ > 0) --skip_;
   filtered_ = initial;
+  if (opts_.exactStart && !gaveUp_ && (lastDefinite || exactStartNext_)) {
+    exactNow_ = usedExact_ = true;  // -newton_exact_start: as after a full-length update
+    ctx.disc->setEigenFilter(kernels::EigenFilter::None);
+  }
+  exactStartNext_ = false;
   return 0;
 }
 
 NewtonMemory HessianFilter::memory() const {
-  return NewtonMemory{usedExact_ && !gaveUp_ ? 0 : backoff_, skip_};
+  const bool lastDefinite = usedExact_ && !gaveUp_;
+  NewtonMemory m{lastDefinite ? 0 : backoff_, skip_};
+  m.filterExactStart = lastDefinite || exactStartNext_ ? 1 : 0;
+  return m;
 }
 
 void HessianFilter::restore(const NewtonMemory &m) {
   backoff_ = m.filterBackoff;
   skip_ = m.filterSkip;
   usedExact_ = gaveUp_ = false;
+  exactStartNext_ = m.filterExactStart != 0;
 }
 
 // The unfiltered systems failed this solve: the filter for the rest of it and, doubling with each consecutive

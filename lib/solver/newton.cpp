@@ -234,6 +234,10 @@ void NewtonSolver::restoreFilter() {
   filterOverride_ = -1;
 }
 
+void NewtonSolver::energyChanged() {
+  if (filter_) filter_->energyChanged();
+}
+
 // The base solver's PETSc settings that SNESSetFromOptions would otherwise leave at aries' defaults for a prefixed
 // solver: SNES tolerances, line search type, KSP type and tolerances, PC type. Type-specific options (-pc_gamg_*,
 // -ksp_cg_type, ...) apply to the prefixed solver only when given with its prefix.
@@ -448,6 +452,7 @@ PetscErrorCode NewtonSolver::finishResult(bool snesRan, NewtonResult *result) {
     cur.history.push_back(pending_.record);
     havePending_ = false;
   }
+  if (!cur.history.empty()) cur.history.front().firstOfSolve = true;
   *result = cur;
   PetscFunctionReturn(0);
 }

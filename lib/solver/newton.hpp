@@ -77,6 +77,9 @@ class NewtonSolver {
   // carries it, so a restarted run keeps it.
   void overrideFilter(EigenFilterMode mode);
   void restoreFilter();
+  // The next solve minimizes another energy than the last one (after a shape stage, shape_first.cpp): its first system
+  // is filtered, whatever -newton_exact_start would take from the last solve.
+  void energyChanged();
 
   // The alpha safeguard's check of a state against reference alphas (AlphaSafeguard::acceptable).
   PetscErrorCode alphaAcceptable(Vec xGlobal, const std::vector<double> &reference, bool *ok);

@@ -9,9 +9,11 @@ namespace aries::solver {
 // clamping leaves the inverted elements' soft modes soft), static solves take absolute values (no inertia: clamped
 // Hessians of a scrambled body are near-singular); the subspace step is unlimited with inertia and limited to twice
 // the Newton step, after full steps only, without it (a static solve from a scramble can otherwise jump into another
-// basin, e.g. a folded body). An option only read where it applies (-psd_adaptive_tol with the adaptive filter,
-// -newton_subspace_max and -newton_extrapolate with a subspace step, -newton_inertia_guess for backward Euler) is
-// reported unused elsewhere.
+// basin, e.g. a folded body); a solve after one whose unfiltered systems were all definite starts unfiltered
+// (-newton_exact_start: as many updates or fewer and fewer linear solves on the moving scenes measured, test cylinder
+// and Fig. 6 / Fig. 13 scenes). An option only read where it applies (-psd_adaptive_tol with the adaptive filter,
+// -newton_subspace_max and -newton_extrapolate with a subspace step, -newton_exact_start with -newton_exact_hessian,
+// -newton_inertia_guess for backward Euler) is reported unused elsewhere.
 PetscErrorCode readNewtonOptions(bool dynamic, const NewtonOptions *base, const char *prefix, NewtonOptions *o) {
   const core::ReadContext at{prefix, dynamic ? "beuler" : "static", base != nullptr};
   PetscFunctionBeginUser;
@@ -30,6 +32,11 @@ PetscErrorCode readNewtonOptions(bool dynamic, const NewtonOptions *base, const 
   PetscBool exact = o->filter.exactNearSolution ? PETSC_TRUE : PETSC_FALSE;
   if (o->filter.mode != EigenFilterMode::None) PetscCall(core::get(opt::newtonExactHessian, &exact, nullptr, at));
   o->filter.exactNearSolution = exact && o->filter.mode != EigenFilterMode::None;
+  if (o->filter.exactNearSolution) {
+    PetscBool start = o->filter.exactStart ? PETSC_TRUE : PETSC_FALSE;
+    PetscCall(core::get(opt::newtonExactStart, &start, nullptr, at));
+    o->filter.exactStart = start;
+  }
   PetscCall(core::get(opt::newtonSubspace, &o->subspace.size, nullptr, at));
   if (o->subspace.size > 0) {
     PetscCall(core::get(opt::newtonSubspaceMax, &o->subspace.maxCoefficient, nullptr, at));

@@ -22,6 +22,7 @@ struct FilterOptions {
   bool wholeElement = false;  // -psd_scope element
   double adaptiveTol = 0.01;
   bool exactNearSolution = false;  // -newton_exact_hessian: the unfiltered Hessian after full-length updates
+  bool exactStart = false;         // -newton_exact_start: a solve starts unfiltered after a definite one
 };
 
 // SubspaceStep: -newton_subspace, -newton_subspace_max, -newton_extrapolate.

@@ -41,6 +41,7 @@ struct NewtonMemory {
   int filterBackoff = 0;    // solves kept filtered after the next failure / 2 (0: none failed lately)
   int filterSkip = 0;       // solves left that keep the filter
   int filterOverride = -1;  // an EigenFilterMode that overrides -psd_projection's (-1: none)
+  int filterExactStart = 0; // 1: the last solve's unfiltered systems were all definite (-newton_exact_start)
 };
 
 // One Newton iteration, for -newton_history and the convergence charts.
@@ -59,6 +60,7 @@ struct IterationRecord {
   double load = 0.0;        // the load parameter of the state the row's update reached (its target, once reached)
   bool lifted = false;      // a lifted update: the supports moved with it (lifted_increment.cpp)
   double extrapolated = 0.0;  // -newton_extrapolate's scale of the full step (2, 4, ...; 0: not extrapolated)
+  bool firstOfSolve = false;  // the first row of a Newton solve (-newton_history's solve column counts them)
 };
 
 struct NewtonResult {
@@ -240,7 +242,9 @@ class RotationalUpdate final : public NewtonStep {
 // or the safeguard had to shorten. Where the energy is not convex near the
 // solutions (an inside-out recovery's tail) every attempt would fail: after a failed solve the next 1, 2, 4, ... 64
 // solves (consecutive failures double it) keep the filter, and a solve whose unfiltered systems all were definite
-// resets that back-off.
+// resets that back-off. With -newton_exact_start such a solve's successor (the next time or load step) assembles its
+// first system unfiltered too: it starts where CG has just solved the true Hessian, and the filtered first update
+// would leave an error at the compressed cells that costs one more update in most steps of a moving scene.
 class HessianFilter final : public NewtonStep {
  public:
   explicit HessianFilter(const FilterOptions &o) : opts_(o) {}
@@ -255,6 +259,11 @@ class HessianFilter final : public NewtonStep {
   void restore(const NewtonMemory &m);
   // The filter of the solves that begin from now on (NewtonSolver::overrideFilter).
   void setMode(EigenFilterMode mode) { opts_.mode = mode; }
+  // The next solve minimizes another energy than the last one (a shape stage's end): it starts filtered.
+  void energyChanged() {
+    if (usedExact_ && !gaveUp_) backoff_ = 0;
+    usedExact_ = exactStartNext_ = false;
+  }
 
  private:
   PetscErrorCode giveUp(NewtonContext &ctx);
@@ -262,6 +271,7 @@ class HessianFilter final : public NewtonStep {
   bool exactNow_ = false;  // this iteration's system is the unfiltered one
   bool gaveUp_ = false;    // an unfiltered system of this solve was indefinite: the filter for the rest of it
   bool usedExact_ = false; // this solve assembled an unfiltered system
+  bool exactStartNext_ = false;  // from a checkpoint: the last solve's unfiltered systems were all definite
   int backoff_ = 0;        // solves to keep the filter after the next failure / 2 (0: none failed lately)
   int skip_ = 0;           // solves left that keep the filter
   kernels::EigenFilter filtered_ = kernels::EigenFilter::Clamp;  // the filter an exact iteration falls back to

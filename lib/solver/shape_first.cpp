@@ -62,6 +62,7 @@ PetscErrorCode solveShapeFirst(fem::Discretization &disc, NewtonSolver &newton, 
   if (!ierr) ierr = newton.solve(x, &stage);
   if (!ierr) ierr = newton.loosenStepTolerance(0.0);  // the full solve converges to -newton_tol
   disc.suspendVolumeTerms(false);  // before any error returns: the materials are the read ones again
+  newton.energyChanged();           // the full solve's first system is filtered (-newton_exact_start)
   PetscCall(ierr);
   *acc += stage;
   if (!stage.converged()) PetscCall(VecCopy(start, x));  // the full solve starts from the start it would have had

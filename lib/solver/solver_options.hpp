@@ -137,6 +137,11 @@ inline constexpr OptionDecl newtonExactHessian =
                "while CG finds it positive definite; at negative curvature that iteration is solved again with the "
                "filter, which the solve then keeps (see Hessian filter below)")
         .byDefault("true");
+inline constexpr OptionDecl newtonExactStart =
+    flagOption("-newton_exact_start",
+               "with -newton_exact_hessian: a solve's first Newton system is unfiltered too where the previous "
+               "solve's unfiltered systems were all positive definite (the same fallback to the filter)")
+        .byDefault("true");
 inline constexpr OptionDecl newtonSubspace =
     intOption("-newton_subspace", "M",
               "subspace step: minimize the exact quadratic model over the Newton direction and the last M updates "
@@ -197,7 +202,7 @@ inline constexpr OptionDecl multigridMinDofs =
 
 inline constexpr const OptionDecl *kNewtonOptions[] = {
     &newtonTol,      &alphaMin,          &psdProjection,  &psdEigensystem,     &psdScope,     &psdAdaptiveTol,
-    &newtonExactHessian, &newtonSubspace,
+    &newtonExactHessian, &newtonExactStart, &newtonSubspace,
     &newtonSubspaceMax, &newtonExtrapolate, &newtonRotation, &newtonForcing,  &liftIncrements, &newtonInertiaGuess,
     &nearNullspace, &multigridMinDofs};
 

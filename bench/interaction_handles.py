@@ -1,0 +1,198 @@
+#!/usr/bin/python3
+"""Why the Fig. 13 interaction takes more Newton updates per step on finer meshes: the cells at the handles' edges.
+
+usage: bench/interaction_handles.py [--steps K] [--meshes tets,tets_fine,hexmid,hex[:K]] [--out FILE.md]
+
+Runs options/bunny_interact.yml (two box handles pushed 0.06 into the cheeks over 100 steps, backward Euler, 200
+steps) on bunny meshes of several element types and sizes, 2 MPI ranks, each with a step's first Newton system
+filtered and unfiltered (-newton_exact_start false / true), and reports for each: its cell size h (the mean rest
+edge), the Newton updates and linear solves per step in three phases (the handles move and the targets change: steps
+1-55 and 56-100; the handles hold: 101-200), and, at the output steps, the cells the handles crush: cells whose J (det
+F, averaged over the cell's quadrature points) is below 0.25, how many of them lie within 2 h of a support box's
+boundary (the handles or the pinned base), and the worst cell (smallest J) with its energy density against the median.
+--steps K runs only the first K steps of each mesh, MESH:K those of one (the phases then cover fewer steps, and the
+table says how many). Each run
+lives in out/interaction_handles/<mesh>/ with its stats, Newton history and output; a run whose directory holds the
+same command line and a stats row for every step asked for is read back, not run again. Use /usr/bin/python3.
+"""
+import argparse
+import csv
+import datetime
+import os
+import subprocess
+import sys
+
+import h5py
+import numpy as np
+
+BENCH = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(BENCH)
+sys.path.insert(0, BENCH)
+sys.path.insert(0, os.path.join(ROOT, "ctest"))
+import scenes  # noqa: E402  (mesh generation, machine line, commit line)
+from harness import mpi_env  # noqa: E402
+
+WORK = os.path.join(ROOT, "out", "interaction_handles")
+OUT = os.path.join(ROOT, "bench", "results", "interaction_handles.md")
+OPTIONS = os.path.join(ROOT, "options", "bunny_interact.yml")
+RANKS = 2
+OUTPUT_EVERY = 10
+CRUSHED_J = 0.25
+NEAR_BOX_H = 2.0
+# label -> (mesh name, size, description)
+MESHES = {
+    "tets": ("bunny", "default", "tetrahedra (the scene's mesh)"),
+    "tets_fine": ("bunny", "fig15", "tetrahedra, fine"),
+    "hexmid": ("bunny", "hexmid", "voxel hexahedra, edge 0.02"),
+    "hex": ("bunny", "hex", "voxel hexahedra, edge 0.01 (the paper's size)"),
+}
+PHASES = [(1, 55), (56, 100), (101, 200)]
+# variant -> options: a step's first Newton system filtered (as before issue 45's measurement) or unfiltered
+VARIANTS = {"filtered start": ["-newton_exact_start", "false"], "exact start": ["-newton_exact_start", "true"]}
+
+
+def read_boxes():
+    for line in open(OPTIONS):
+        if line.startswith("bc_box:"):
+            v = [float(x) for x in line.split(":", 1)[1].split(",")]
+            return [v[i:i + 6] for i in range(0, len(v), 6)]
+    raise SystemExit("interaction_handles: no bc_box in %s" % OPTIONS)
+
+
+def run(label, variant, steps, build):
+    name, size, _ = MESHES[label]
+    msh = scenes.generate(name, size)
+    work = os.path.join(WORK, label + "_" + variant.replace(" ", "_"))
+    os.makedirs(work, exist_ok=True)
+    stats = os.path.join(work, "stats.csv")
+    cmd = ["mpiexec", "-n", str(RANKS), os.path.join(build, "aries"), "-options_file", OPTIONS,
+           "-dm_plex_filename", msh, "-target_file", msh[:-4] + ".targets", "-steps", str(steps),
+           "-output", os.path.join(work, "bi"), "-output_every", str(OUTPUT_EVERY), "-stats", stats,
+           "-newton_history", os.path.join(work, "history.csv")] + VARIANTS[variant]
+    key = " ".join(cmd)
+    keyfile = os.path.join(work, "command.txt")
+    if os.path.exists(keyfile) and open(keyfile).read() == key and len(read_stats(stats)) == steps:
+        return work
+    print("interaction_handles: running", label, variant, flush=True)
+    with open(os.path.join(work, "log.txt"), "w") as log:
+        rc = subprocess.call(cmd, stdout=log, stderr=subprocess.STDOUT, env=mpi_env(), cwd=ROOT)
+    if rc != 0:
+        raise SystemExit("interaction_handles: %s (%s) failed (exit %d), see %s/log.txt" % (label, variant, rc, work))
+    open(keyfile, "w").write(key)
+    return work
+
+
+def read_stats(path):
+    if not os.path.exists(path):
+        return []
+    with open(path) as f:
+        return list(csv.DictReader(line for line in f if not line.startswith("#")))
+
+
+def box_distance(c, box):
+    """Distance from points c (n x 3) to the boundary of an axis-aligned box (inside or out)."""
+    lo, hi = np.array(box[0::2]), np.array(box[1::2])
+    inside = np.all((c >= lo) & (c <= hi), axis=1)
+    out = np.linalg.norm(np.maximum(0.0, np.maximum(lo - c, c - hi)), axis=1)
+    depth = np.min(np.minimum(c - lo, hi - c), axis=1)
+    return np.where(inside, depth, out)
+
+
+def crushed_cells(work, boxes):
+    mesh = h5py.File(os.path.join(work, "bi.h5"), "r")["mesh"]
+    rest, topo = mesh["rest"][:], mesh["topology"][:]
+    centroids = rest[topo].mean(axis=1)
+    # the mean rest edge: tets' six edges, hexahedra's twelve (VTK order)
+    edges = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)] if topo.shape[1] == 4 else \
+        [(0, 1), (1, 2), (2, 3), (3, 0), (4, 5), (5, 6), (6, 7), (7, 4), (0, 4), (1, 5), (2, 6), (3, 7)]
+    h = float(np.mean([np.linalg.norm(rest[topo[:, i]] - rest[topo[:, j]], axis=1).mean() for i, j in edges]))
+    near = np.min([box_distance(centroids, b) for b in boxes], axis=0) <= NEAR_BOX_H * h
+    rows = []
+    steps_dir = os.path.join(work, "bi.steps")
+    for fname in sorted(os.listdir(steps_dir)):
+        step = int(fname.split("_")[-1].split(".")[0])
+        if step == 0:
+            continue
+        cell = h5py.File(os.path.join(steps_dir, fname), "r")["cell"]
+        J = cell["J"][:].reshape(-1)
+        e = cell["energy_density"][:].reshape(-1)
+        bad = J < CRUSHED_J
+        worst = int(np.argmin(J))
+        rows.append(dict(step=step, crushed=int(bad.sum()), near=int((bad & near).sum()), minJ=float(J[worst]),
+                         worst_at=centroids[worst], worst_e=float(e[worst]) / float(np.median(e))))
+    return h, len(topo), rows
+
+
+def phase_averages(stats):
+    out = []
+    for a, b in PHASES:
+        rows = [r for r in stats if a <= int(r["step"]) <= b]
+        if not rows:
+            out.append(None)
+            continue
+        out.append((len(rows), np.mean([int(r["newton_its"]) for r in rows]),
+                    np.mean([int(r["linear_solves"]) for r in rows])))
+    return out
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--steps", type=int, default=200)
+    p.add_argument("--meshes", default=",".join(MESHES))
+    p.add_argument("--build", default=os.path.join(ROOT, "build"))
+    p.add_argument("--out", default=OUT)
+    a = p.parse_args()
+    boxes = read_boxes()
+    labels, steps = [], {}
+    for item in a.meshes.split(","):
+        label, _, k = item.partition(":")
+        if label not in MESHES:
+            raise SystemExit("interaction_handles: unknown mesh '%s' (known: %s)" % (label, ",".join(MESHES)))
+        if k and not (k.isdigit() and 1 <= int(k) <= 200):
+            raise SystemExit("interaction_handles: '%s': the steps after ':' must be 1..200" % item)
+        labels.append(label)
+        steps[label] = int(k) if k else a.steps
+    results = {(label, v): run(label, v, steps[label], a.build) for label in labels for v in VARIANTS}
+
+    lines = ["# The Fig. 13 interaction: Newton's work against the cells the handles crush", "",
+             "Generated by `bench/interaction_handles.py%s` on %s at %s, %s; **do not edit by hand**. "
+             "options/bunny_interact.yml (handles: boxes 2 and 3 of its bc_box, pushed 0.06 into the cheeks over steps "
+             "1-100, then held; the shape targets move until t = 1, step 100), 200 steps unless a row says fewer. "
+             "Newton = updates of the state per step, solves = linear solves per step, averaged over the steps of "
+             "each phase. Crushed = cells whose J (det F averaged over the cell's points) is below %g; near a "
+             "support = the cell's rest centroid within %g h of a support box's boundary (the handles and the "
+             "pinned base); h = the mean rest edge of the mesh's cells."
+             % ((" --steps %d" % a.steps if a.steps != 200 else "") + " --meshes " + a.meshes,
+                datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"), scenes.commit_line(),
+                scenes.machine_line(RANKS), CRUSHED_J, NEAR_BOX_H), "",
+             "## Newton per step by phase", "",
+             "| mesh | cells | h | first system | steps 1-55: Newton / solves | 56-100 | 101-200 | all steps | "
+             "s/step |", "|---|---:|---:|---|---|---|---|---|---:|"]
+    cells = {}
+    for label in labels:
+        for v in VARIANTS:
+            stats = read_stats(os.path.join(results[label, v], "stats.csv"))
+            h, n, rows = crushed_cells(results[label, v], boxes)
+            cells[label, v] = rows
+            ph = ["%.2f / %.2f (%d)" % (x[1], x[2], x[0]) if x else "-" for x in phase_averages(stats)]
+            allp = "%.2f / %.2f (%d)" % (np.mean([int(r["newton_its"]) for r in stats]),
+                                          np.mean([int(r["linear_solves"]) for r in stats]), len(stats))
+            lines.append("| %s | %d | %.4f | %s | %s | %s | %s | %s | %.2f |" % (
+                MESHES[label][2], n, h, v, ph[0], ph[1], ph[2], allp,
+                np.mean([float(r["wall_s"]) for r in stats])))
+    lines += ["", "(in brackets: the steps averaged; first system: a step's first Newton system filtered, or "
+              "unfiltered where the previous step's unfiltered systems were all positive definite, "
+              "`-newton_exact_start`)", "",
+              "## Crushed cells at the output steps (exact start)", "",
+              "| mesh | step | crushed cells | of them near a support | smallest J | its rest centroid | its energy "
+              "density / median |", "|---|---:|---:|---:|---:|---|---:|"]
+    for label in labels:
+        for r in cells[label, "exact start"]:
+            lines.append("| %s | %d | %d | %d | %.3f | (%.3f, %.3f, %.3f) | %.0f |" % (
+                MESHES[label][2], r["step"], r["crushed"], r["near"], r["minJ"], *r["worst_at"], r["worst_e"]))
+    open(a.out, "w").write("\n".join(lines) + "\n")
+    print("interaction_handles: wrote", a.out)
+
+
+if __name__ == "__main__":
+    main()
