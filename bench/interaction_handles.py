@@ -16,7 +16,6 @@ lives in out/interaction_handles/<mesh>/ with its stats, Newton history and outp
 same command line and a stats row for every step asked for is read back, not run again. Use /usr/bin/python3.
 """
 import argparse
-import csv
 import datetime
 import os
 import subprocess
@@ -71,7 +70,8 @@ def run(label, variant, steps, build):
            "-newton_history", os.path.join(work, "history.csv")] + VARIANTS[variant]
     key = " ".join(cmd)
     keyfile = os.path.join(work, "command.txt")
-    if os.path.exists(keyfile) and open(keyfile).read() == key and len(read_stats(stats)) == steps:
+    if (os.path.exists(keyfile) and open(keyfile).read() == key and os.path.exists(stats)
+            and len(scenes.read_stats(stats)[0]) == steps):
         return work
     print("interaction_handles: running", label, variant, flush=True)
     with open(os.path.join(work, "log.txt"), "w") as log:
@@ -80,13 +80,6 @@ def run(label, variant, steps, build):
         raise SystemExit("interaction_handles: %s (%s) failed (exit %d), see %s/log.txt" % (label, variant, rc, work))
     open(keyfile, "w").write(key)
     return work
-
-
-def read_stats(path):
-    if not os.path.exists(path):
-        return []
-    with open(path) as f:
-        return list(csv.DictReader(line for line in f if not line.startswith("#")))
 
 
 def box_distance(c, box):
@@ -171,7 +164,7 @@ def main():
     cells = {}
     for label in labels:
         for v in VARIANTS:
-            stats = read_stats(os.path.join(results[label, v], "stats.csv"))
+            stats = scenes.read_stats(os.path.join(results[label, v], "stats.csv"))[0]
             h, n, rows = crushed_cells(results[label, v], boxes)
             cells[label, v] = rows
             ph = ["%.2f / %.2f (%d)" % (x[1], x[2], x[0]) if x else "-" for x in phase_averages(stats)]

@@ -15,6 +15,25 @@ namespace aries::io {
 
 namespace {
 constexpr const char *kFormat = "aries-checkpoint-1";
+// The Newton solver's memory (solver::NewtonMemory), one int attribute per field in this order; a checkpoint written
+// before a field existed lacks its attribute and restarts with the field's default.
+constexpr const char *kMemoryAttributes[] = {"filter_backoff", "filter_skip", "filter_override", "filter_exact_start"};
+constexpr int kMemoryFields = sizeof(kMemoryAttributes) / sizeof(kMemoryAttributes[0]);
+
+void memoryToInts(const solver::NewtonMemory &m, int v[kMemoryFields]) {
+  v[0] = m.filterBackoff;
+  v[1] = m.filterSkip;
+  v[2] = m.filterOverride;
+  v[3] = m.filterExactStart;
+}
+
+// Reads the attributes present into v (absent ones keep their value); false where one cannot be read as an int.
+bool readMemoryAttributes(hid_t f, int v[kMemoryFields]) {
+  for (int k = 0; k < kMemoryFields; ++k)
+    if (H5Aexists(f, kMemoryAttributes[k]) > 0 && !readScalarAttribute(f, kMemoryAttributes[k], H5T_NATIVE_INT, &v[k]))
+      return false;
+  return true;
+}
 
 }  // namespace
 
@@ -57,19 +76,18 @@ PetscErrorCode writeCheckpoint(const solver::Simulation &sim, const core::Natura
   const long long step = sim.completedSteps(), nv = static_cast<long long>(vertices.total()),
                   nc = static_cast<long long>(disc.mesh().numCellsGlobal);
   const double time = sim.time(), load = disc.load();
-  const solver::NewtonMemory memory = sim.newtonMemory();
+  int memory[kMemoryFields];
+  memoryToInts(sim.newtonMemory(), memory);
   hid_t f = dirOk ? core::createParallelFile(comm, tmp) : -1;
   bool ok = f >= 0 && core::writeBlockDataset(f, "/positions", vertices, positions, 3) &&
             core::writeBlockDataset(f, "/velocities", vertices, velocities, 3) &&
             writeScalarAttribute(f, "step", H5T_NATIVE_LLONG, step) &&
             writeScalarAttribute(f, "time", H5T_NATIVE_DOUBLE, time) &&
             writeScalarAttribute(f, "load", H5T_NATIVE_DOUBLE, load) &&
-            writeScalarAttribute(f, "filter_backoff", H5T_NATIVE_INT, memory.filterBackoff) &&
-            writeScalarAttribute(f, "filter_skip", H5T_NATIVE_INT, memory.filterSkip) &&
-            writeScalarAttribute(f, "filter_override", H5T_NATIVE_INT, memory.filterOverride) &&
-            writeScalarAttribute(f, "filter_exact_start", H5T_NATIVE_INT, memory.filterExactStart) &&
             writeScalarAttribute(f, "num_vertices", H5T_NATIVE_LLONG, nv) &&
             writeScalarAttribute(f, "num_cells", H5T_NATIVE_LLONG, nc);
+  for (int k = 0; k < kMemoryFields; ++k)
+    ok = ok && writeScalarAttribute(f, kMemoryAttributes[k], H5T_NATIVE_INT, memory[k]);
   ok = ok && writeStringAttribute(f, "format", kFormat) && writeVersionAttributes(f);
   if (f >= 0) ok = H5Fclose(f) >= 0 && ok;
   int good = ok, allGood = 0;
@@ -89,8 +107,8 @@ PetscErrorCode readCheckpoint(const fem::Discretization &disc, const std::string
   std::string err;
   long long step = 0, nv = 0, nc = 0;
   double scalars[2] = {0, 0};
-  // NewtonMemory: filter_backoff, filter_skip, filter_override, filter_exact_start (older checkpoints: none)
-  int memory[4] = {0, 0, -1, 0};
+  int memory[kMemoryFields];
+  memoryToInts(solver::NewtonMemory{}, memory);  // the defaults, for attributes an older checkpoint lacks
   if (rank == 0) {  // the attributes first: a file that is not a checkpoint of this mesh is one clear error
     H5E_auto2_t func;
     void *data;
@@ -117,13 +135,7 @@ PetscErrorCode readCheckpoint(const fem::Discretization &disc, const std::string
                  !readScalarAttribute(f, "num_vertices", H5T_NATIVE_LLONG, &nv) ||
                  !readScalarAttribute(f, "num_cells", H5T_NATIVE_LLONG, &nc)) {
         err = "checkpoint '" + path + "' is incomplete (missing attributes)";
-      } else if ((H5Aexists(f, "filter_backoff") > 0 &&
-                  !readScalarAttribute(f, "filter_backoff", H5T_NATIVE_INT, &memory[0])) ||
-                 (H5Aexists(f, "filter_skip") > 0 && !readScalarAttribute(f, "filter_skip", H5T_NATIVE_INT, &memory[1])) ||
-                 (H5Aexists(f, "filter_override") > 0 &&
-                  !readScalarAttribute(f, "filter_override", H5T_NATIVE_INT, &memory[2])) ||
-                 (H5Aexists(f, "filter_exact_start") > 0 &&
-                  !readScalarAttribute(f, "filter_exact_start", H5T_NATIVE_INT, &memory[3]))) {
+      } else if (!readMemoryAttributes(f, memory)) {
         err = "checkpoint '" + path +
               "' has malformed attributes filter_backoff / filter_skip / filter_override / filter_exact_start";
       } else if (nv != mesh.numVerticesGlobal || nc != mesh.numCellsGlobal) {
@@ -138,7 +150,7 @@ PetscErrorCode readCheckpoint(const fem::Discretization &disc, const std::string
   PetscCall(core::collectiveCheck(comm, !err.empty(), err));
   PetscCallMPI(MPI_Bcast(&step, 1, MPI_LONG_LONG, 0, comm));
   PetscCallMPI(MPI_Bcast(scalars, 2, MPI_DOUBLE, 0, comm));
-  PetscCallMPI(MPI_Bcast(memory, 4, MPI_INT, 0, comm));
+  PetscCallMPI(MPI_Bcast(memory, kMemoryFields, MPI_INT, 0, comm));
   // Every rank reads its block of rows, then the rows move to the ranks that own those vertices.
   std::vector<PetscInt> natural, local;
   disc.diagnostics().ownedVertexIds(&natural, &local);
@@ -169,7 +181,7 @@ PetscErrorCode readCheckpoint(const fem::Discretization &disc, const std::string
   st->step = static_cast<PetscInt>(step);
   st->time = scalars[0];
   st->load = scalars[1];
-  st->newton = solver::NewtonMemory{memory[0], memory[1], memory[2], memory[3]};
+  st->newton = solver::NewtonMemory{memory[0], memory[1], memory[2], memory[3]};  // memoryToInts' order
   PetscFunctionReturn(0);
 }
 

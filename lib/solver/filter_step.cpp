@@ -34,26 +34,25 @@ PetscErrorCode HessianFilter::beginSolve(NewtonContext &ctx) {
   gaveUp_ = skip_ > 0;  // backing off: this solve keeps the filter
   if (skip_ > 0) --skip_;
   filtered_ = initial;
-  if (opts_.exactStart && !gaveUp_ && (lastDefinite || exactStartNext_)) {
+  if (opts_.exactStart && !gaveUp_ && lastDefinite) {
     exactNow_ = usedExact_ = true;  // -newton_exact_start: as after a full-length update
     ctx.disc->setEigenFilter(kernels::EigenFilter::None);
   }
-  exactStartNext_ = false;
   return 0;
 }
 
 NewtonMemory HessianFilter::memory() const {
   const bool lastDefinite = usedExact_ && !gaveUp_;
   NewtonMemory m{lastDefinite ? 0 : backoff_, skip_};
-  m.filterExactStart = lastDefinite || exactStartNext_ ? 1 : 0;
+  m.filterExactStart = lastDefinite ? 1 : 0;
   return m;
 }
 
 void HessianFilter::restore(const NewtonMemory &m) {
   backoff_ = m.filterBackoff;
   skip_ = m.filterSkip;
-  usedExact_ = gaveUp_ = false;
-  exactStartNext_ = m.filterExactStart != 0;
+  usedExact_ = m.filterExactStart != 0;  // the last solve's unfiltered systems were all definite (its back-off is 0)
+  gaveUp_ = false;
 }
 
 // The unfiltered systems failed this solve: the filter for the rest of it and, doubling with each consecutive

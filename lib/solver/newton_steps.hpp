@@ -262,7 +262,7 @@ class HessianFilter final : public NewtonStep {
   // The next solve minimizes another energy than the last one (a shape stage's end): it starts filtered.
   void energyChanged() {
     if (usedExact_ && !gaveUp_) backoff_ = 0;
-    usedExact_ = exactStartNext_ = false;
+    usedExact_ = false;
   }
 
  private:
@@ -271,7 +271,6 @@ class HessianFilter final : public NewtonStep {
   bool exactNow_ = false;  // this iteration's system is the unfiltered one
   bool gaveUp_ = false;    // an unfiltered system of this solve was indefinite: the filter for the rest of it
   bool usedExact_ = false; // this solve assembled an unfiltered system
-  bool exactStartNext_ = false;  // from a checkpoint: the last solve's unfiltered systems were all definite
   int backoff_ = 0;        // solves to keep the filter after the next failure / 2 (0: none failed lately)
   int skip_ = 0;           // solves left that keep the filter
   kernels::EigenFilter filtered_ = kernels::EigenFilter::Clamp;  // the filter an exact iteration falls back to
