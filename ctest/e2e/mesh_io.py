@@ -73,11 +73,13 @@ def mesh_labels(msh, faces, tag):
 def case_mesh_faces():
     """A 3D gmsh mesh's faces made by every rank after distribution (-mesh_faces distributed, the default) label the
     same faces as PETSc's reader does on rank 0 (-mesh_faces serial): the label strata agree on tetrahedra and
-    hexahedra in MSH 2.2 and on the tetrahedra rewritten as MSH 4.1 (tags on entities); and on --ranks ranks the box
-    compressed by its face groups has the same held vertices and the same reaction in both modes (the partitions
-    differ: METIS gets the dual graph from the corners instead of the faces)."""
-    box = mesh("box")
-    meshes = [box, mesh("hexcube"), msh41_from_msh22(box, os.path.join(ARGS.work, "box41.msh"))]
+    hexahedra in MSH 2.2, on the tetrahedra rewritten as MSH 4.1 (tags on entities), and on both meshes converted to
+    HDF5 (read in parallel, its face rows kept until the faces exist); and on --ranks ranks the box compressed by its
+    face groups has the same held vertices and the same reaction in both modes, from the .msh and from the .h5 (the
+    partitions differ: METIS gets the dual graph from the corners instead of the faces, the .h5 is cut by RCB)."""
+    box, hexcube = mesh("box"), mesh("hexcube")
+    meshes = [box, hexcube, msh41_from_msh22(box, os.path.join(ARGS.work, "box41.msh"))]
+    h5 = {box: h5_mesh("box"), hexcube: h5_mesh("hexcube")}
     for k, msh in enumerate(meshes):
         serial = mesh_labels(msh, "serial", "labels_serial_%d" % k)
         distributed = mesh_labels(msh, "distributed", "labels_distributed_%d" % k)
@@ -86,21 +88,30 @@ def case_mesh_faces():
             fail("%s: no Face Sets read by PETSc's reader: the comparison proves nothing" % msh)
         if serial != distributed:
             fail("%s: labels differ:\n serial      %s\n distributed %s" % (msh, serial, distributed))
+        if msh in h5:
+            for faces in ("serial", "distributed"):
+                from_h5 = mesh_labels(h5[msh], faces, "labels_h5_%s_%d" % (faces, k))
+                if from_h5 != serial:
+                    fail("%s -mesh_faces %s: labels differ from the .msh's:\n .msh %s\n .h5  %s"
+                         % (h5[msh], faces, serial, from_h5))
     results = {}
-    for faces in ("serial", "distributed"):
-        tag = "box_%s" % faces
-        log, _ = run(["-dm_plex_filename", meshes[2], "-energy", "iarap", "-integrator", "static", "-steps", "1",
-                      "-bc_clamp", "bottom,top", "-bc_clamp_top_translate", "0,0,-0.1", "-mesh_faces", faces,
-                      "-reactions", out_base(tag) + "_reactions.csv"], tag=tag)
-        held = re.search(r"\((\d+) Dirichlet\)", log)
-        force = [float(x) for x in open(out_base(tag) + "_reactions.csv").read().strip().splitlines()[-1].split(",")[3:]]
-        results[faces] = (int(held.group(1)) if held else -1, np.array(force))
+    for source, m in (("msh", meshes[2]), ("h5", h5[box])):
+        for faces in ("serial", "distributed"):
+            tag = "box_%s_%s" % (source, faces)
+            log, _ = run(["-dm_plex_filename", m, "-energy", "iarap", "-integrator", "static", "-steps", "1",
+                          "-bc_clamp", "bottom,top", "-bc_clamp_top_translate", "0,0,-0.1", "-mesh_faces", faces,
+                          "-reactions", out_base(tag) + "_reactions.csv"], tag=tag)
+            held = re.search(r"\((\d+) Dirichlet\)", log)
+            force = [float(x) for x in
+                     open(out_base(tag) + "_reactions.csv").read().strip().splitlines()[-1].split(",")[3:]]
+            results[tag] = (int(held.group(1)) if held else -1, np.array(force))
     print("held vertices and top reaction: %s" % results)
-    (held_s, force_s), (held_d, force_d) = results["serial"], results["distributed"]
-    if held_s <= 0 or held_s != held_d:
-        fail("held vertices: serial %d, distributed %d" % (held_s, held_d))
-    if not np.abs(force_s - force_d).max() <= 1e-8 * np.abs(force_s).max():
-        fail("top reaction: serial %s, distributed %s" % (force_s, force_d))
+    held_s, force_s = results["box_msh_serial"]
+    for tag, (held, force) in results.items():
+        if held_s <= 0 or held != held_s:
+            fail("held vertices: %s %d, box_msh_serial %d" % (tag, held, held_s))
+        if not np.abs(force - force_s).max() <= 1e-8 * np.abs(force_s).max():
+            fail("top reaction: %s %s, box_msh_serial %s" % (tag, force, force_s))
 
 
 def h5_mesh(name):

@@ -286,13 +286,16 @@ PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh, const std::string &file, cons
   DM loaded = nullptr;
   std::vector<PetscInt> loadedNatural;  // per point of the loaded mesh's chart
   bool deferredFaces = false;
-  std::vector<long long> facetRows;  // rank 0: the tagged faces of a mesh read without faces
-  if (hdf5) PetscCall(readHdf5Mesh(comm, mesh, &loaded, &loadedNatural));
+  DeferredLabelRows deferredRows;  // the labelled faces and edges of a mesh read without them, by the loaded cells
+  if (hdf5) PetscCall(readHdf5Mesh(comm, mesh, &loaded, &loadedNatural, mayDeferFaces, &deferredFaces, &deferredRows));
   const bool quadratic = core::choices(opt::element)[elementChoice] == std::string("p2");
   std::vector<GmshFacets::EdgeNode> edgeNodes;  // rank 0: a second-order file's edge nodes, for -element p2
-  if (!hdf5)
+  if (!hdf5) {
+    std::vector<long long> facetRows;  // rank 0: the tagged faces of a mesh read without faces
     PetscCall(readGmshMesh(comm, mesh, &loaded, &loadedNatural, mayDeferFaces, &deferredFaces, &facetRows,
                            quadratic ? &edgeNodes : nullptr));
+    if (deferredFaces) deferredRows = {{"Face Sets"}, {std::move(facetRows)}};
+  }
   PetscInt numEdgesGlobal = 0;
   std::vector<double> loadedEdgeX;  // per point of the loaded mesh: an edge's node (3 numbers), where the file has it
   {
@@ -312,6 +315,7 @@ PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh, const std::string &file, cons
     DM dist = nullptr;
     const PetscInt overlap = mesh->topoDim == 2 ? 1 : 0;
     PetscCall(DMPlexDistribute(loaded, overlap, &migration, &dist));
+    if (deferredFaces) PetscCall(routeDeferredRows(comm, migration, loaded, loadedNatural, &deferredRows));
     if (dist) {
       PetscCall(DMDestroy(&loaded));
       loaded = dist;
@@ -334,7 +338,7 @@ PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh, const std::string &file, cons
   std::vector<double> pointEdgeX;
   PetscCall(migrateEdgeNodes(migration, loadedEdgeX, mesh->dm, &pointEdgeX));
   PetscCall(numberNaturally(migration, loadedNatural, mesh, &pointNatural));  // destroys the migration SF
-  if (deferredFaces) PetscCall(labelGmshFacets(comm, mesh, std::move(facetRows)));
+  if (deferredFaces) PetscCall(labelDeferredRows(comm, mesh, deferredRows));
   if (mesh->quadratic) PetscCall(refineToQuadratic(mesh, pointNatural, numEdgesGlobal, pointEdgeX));
 
   // PETSc's mesh viewer (-dm_view[ :file:format], e.g. -dm_view ::ascii_info_detail or -dm_view hdf5:mesh.h5) on the

@@ -7,6 +7,9 @@
 #include "mesh/mesh_loading.hpp"
 
 #include "core/errors.hpp"
+#include "core/parallel.hpp"
+
+#include <petscsf.h>
 
 #include <algorithm>
 #include <unordered_map>
@@ -143,30 +146,71 @@ PetscErrorCode readGmshSerial(MPI_Comm comm, const Mesh &mesh, const GmshFacets 
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode labelGmshFacets(MPI_Comm comm, Mesh *mesh, std::vector<long long> rows) {
+PetscErrorCode routeDeferredRows(MPI_Comm comm, PetscSF migration, DM loaded, const std::vector<PetscInt> &loadedNatural,
+                                 DeferredLabelRows *deferred) {
+  PetscMPIInt rank;
   PetscFunctionBeginUser;
-  long long count = static_cast<long long>(rows.size());
-  PetscCallMPI(MPI_Bcast(&count, 1, MPI_LONG_LONG, 0, comm));
-  rows.resize(count);
-  if (count > 0) PetscCallMPI(MPI_Bcast(rows.data(), static_cast<int>(count), MPI_LONG_LONG, 0, comm));
+  if (!migration) PetscFunctionReturn(0);  // one rank: the cells stay where they were read
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  // The rank each loaded cell went to: every distributed point tells its root (overlap 0: one rank per cell).
+  PetscInt nroots, nleaves, minLeaf, maxLeaf, pStart, pEnd, cStart, cEnd;
+  PetscCall(PetscSFGetGraph(migration, &nroots, &nleaves, nullptr, nullptr));
+  PetscCall(PetscSFGetLeafRange(migration, &minLeaf, &maxLeaf));
+  std::vector<int> leafRank(std::max<PetscInt>(maxLeaf + 1, 0), rank), rootRank(std::max<PetscInt>(nroots, 0), -1);
+  PetscCall(PetscSFReduceBegin(migration, MPI_INT, leafRank.data(), rootRank.data(), MPI_MAX));
+  PetscCall(PetscSFReduceEnd(migration, MPI_INT, leafRank.data(), rootRank.data(), MPI_MAX));
+  PetscCall(DMPlexGetChart(loaded, &pStart, &pEnd));
+  PetscCall(DMPlexGetHeightStratum(loaded, 0, &cStart, &cEnd));
+  std::unordered_map<PetscInt, PetscInt> loadedCell;  // natural id -> loaded cell, for the rows' cells only
+  for (const std::vector<long long> &rows : deferred->rows)
+    for (size_t r = 0; r < rows.size(); r += kPointLabelCols) loadedCell.emplace(static_cast<PetscInt>(rows[r]), -1);
+  for (PetscInt c = cStart; c < cEnd && !loadedCell.empty(); ++c) {
+    const auto it = loadedCell.find(loadedNatural[c - pStart]);
+    if (it != loadedCell.end()) it->second = c;
+  }
+  bool ok = true;
+  for (std::vector<long long> &rows : deferred->rows) {
+    std::vector<int> dest(rows.size() / kPointLabelCols, 0);
+    for (size_t r = 0; r < dest.size(); ++r) {
+      const PetscInt c = loadedCell[static_cast<PetscInt>(rows[r * kPointLabelCols])];
+      const int to = c >= 0 && c - pStart < nroots ? rootRank[c - pStart] : -1;
+      ok = ok && to >= 0;
+      dest[r] = std::max(to, 0);
+    }
+    core::RowRoute route;
+    std::vector<long long> received;
+    PetscCall(route.setup(comm, dest));
+    PetscCall(route.forward(rows, kPointLabelCols, &received));
+    rows = std::move(received);
+  }
+  PetscCall(core::collectiveCheck(comm, !ok, "a labelled face's cell was not distributed (an aries bug; "
+                                             "-mesh_faces serial avoids it)"));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode labelDeferredRows(MPI_Comm comm, Mesh *mesh, const DeferredLabelRows &deferred) {
+  PetscFunctionBeginUser;
   std::unordered_map<PetscInt, PetscInt> localCell;  // natural id -> index among the local cells
   localCell.reserve(mesh->naturalCell.size());
   for (size_t c = 0; c < mesh->naturalCell.size(); ++c) localCell.emplace(mesh->naturalCell[c], static_cast<PetscInt>(c));
   bool ok = true;
-  std::vector<long long> mine;  // this rank's rows, their cells as local indices
-  for (size_t r = 0; r < rows.size(); r += kPointLabelCols) {
-    const auto it = localCell.find(static_cast<PetscInt>(rows[r]));
-    if (it == localCell.end()) continue;
-    mine.insert(mine.end(), rows.begin() + r, rows.begin() + r + kPointLabelCols);
-    mine[mine.size() - kPointLabelCols] = it->second;
-  }
-  if (!rows.empty()) {  // the same on every rank: the rows are everyone's
+  for (size_t k = 0; k < deferred.names.size(); ++k) {
+    const std::vector<long long> &rows = deferred.rows[k];
+    long long count = static_cast<long long>(rows.size());
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &count, 1, MPI_LONG_LONG, MPI_SUM, comm));
+    if (count == 0) continue;  // as PETSc's reader: no label for a file without such rows
+    std::vector<long long> mine(rows);  // the cells as local indices
+    for (size_t r = 0; r < mine.size(); r += kPointLabelCols) {
+      const auto it = localCell.find(static_cast<PetscInt>(mine[r]));
+      ok = ok && it != localCell.end();
+      mine[r] = it != localCell.end() ? it->second : -1;
+    }
     DMLabel label;
-    PetscCall(DMCreateLabel(mesh->dm, "Face Sets"));
-    PetscCall(DMGetLabel(mesh->dm, "Face Sets", &label));
+    PetscCall(DMCreateLabel(mesh->dm, deferred.names[k].c_str()));
+    PetscCall(DMGetLabel(mesh->dm, deferred.names[k].c_str(), &label));
     PetscCall(applyLabelRows(mesh->dm, label, mine, kPointLabelCols, 0, mesh->naturalVertex.data(), &ok));
   }
-  PetscCall(core::collectiveCheck(comm, !ok, "mesh '" + mesh->filename + "': a tagged face was lost when the "
+  PetscCall(core::collectiveCheck(comm, !ok, "mesh '" + mesh->filename + "': a labelled face was lost when the "
                                              "mesh was distributed (an aries bug; -mesh_faces serial avoids it)"));
   PetscFunctionReturn(0);
 }

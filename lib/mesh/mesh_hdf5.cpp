@@ -260,7 +260,8 @@ PetscErrorCode applyLabelRows(DM dm, DMLabel label, const std::vector<long long>
 // A converted mesh, read by every rank in parallel: each rank reads a block of the cells and of the vertices, builds
 // its share of the mesh from them, and labels it; the natural id of every point comes from the blocks (cells) and the
 // vertex numbers the cells name.
-PetscErrorCode readHdf5Mesh(MPI_Comm comm, Mesh *mesh, DM *dm, std::vector<PetscInt> *natural) {
+PetscErrorCode readHdf5Mesh(MPI_Comm comm, Mesh *mesh, DM *dm, std::vector<PetscInt> *natural, bool mayDeferFaces,
+                            bool *deferred, DeferredLabelRows *deferredRows) {
   PetscMPIInt rank;
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
@@ -293,10 +294,17 @@ PetscErrorCode readHdf5Mesh(MPI_Comm comm, Mesh *mesh, DM *dm, std::vector<Petsc
                                              "cells and vertices; convert it again"));
   const std::vector<PetscInt> cells(cellRows.begin(), cellRows.end());
   cellRows = std::vector<long long>();
+  // A 3D mesh gets its faces and edges after it is distributed (-mesh_faces distributed): made here, on the blocks of
+  // the file's order, PETSc 3.18's parallel interpolation spends most of its time on the point SF (14 of 19 s of the
+  // 1M-tetrahedron box's setup on 2 ranks), as every block's vertices lie on other ranks.
+  *deferred = mayDeferFaces && cellDim == 3;
+  deferredRows->names.clear();
+  deferredRows->rows.clear();
   // (PETSc 3.18 crashes when asked for the vertex list itself: the natural ids come from the vertex SF instead.)
   PetscSF vertexSF = nullptr;
   PetscCall(DMPlexCreateFromCellListParallelPetsc(comm, cellDim, cellBlocks.blockSize(), vertexBlocks.blockSize(),
-                                                  numVertices, corners, PETSC_TRUE, cells.data(), spaceDim,
+                                                  numVertices, corners, *deferred ? PETSC_FALSE : PETSC_TRUE,
+                                                  cells.data(), spaceDim,
                                                   coords.data(), &vertexSF, nullptr, dm));
   std::vector<PetscInt> vertexNatural;  // natural id of each local vertex, in the DM's vertex order
   PetscCall(vertexNaturalIds(comm, vertexSF, vertexBlocks.blockStart(), &vertexNatural));
@@ -316,6 +324,16 @@ PetscErrorCode readHdf5Mesh(MPI_Comm comm, Mesh *mesh, DM *dm, std::vector<Petsc
       const std::string name = "/aries/labels/" + std::to_string(k) + (cols == kCellLabelCols ? "/cells" : "/points");
       std::vector<long long> rows;
       PetscCall(receiveLabelRows(comm, file, name, cols, numCells, &rows, &ok));
+      if (*deferred && cols == kPointLabelCols) {  // the faces' and edges' rows wait for the faces and edges
+        std::vector<long long> now, later;
+        for (size_t r = 0; r < rows.size(); r += cols) {
+          std::vector<long long> &to = rows[r + 1] == 0 ? now : later;  // column 1: the point's dimension
+          to.insert(to.end(), rows.begin() + r, rows.begin() + r + cols);
+        }
+        rows = std::move(now);
+        deferredRows->names.push_back(labelNames[k]);
+        deferredRows->rows.push_back(std::move(later));
+      }
       PetscCall(applyLabelRows(*dm, label, rows, cols, cellBlocks.blockStart(), vertexNatural.data(), &ok));
     }
   }

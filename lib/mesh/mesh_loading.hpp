@@ -20,7 +20,7 @@ PetscErrorCode parsePhysicalNames(MPI_Comm comm, std::string blob, std::map<std:
 // The gmsh file -dm_plex_filename read on rank 0: its serial DM, the natural id of every point of its chart (cell or
 // vertex number, -1 for others), the physical names and the global counts. With mayDeferFaces, a mesh whose faces and
 // edges can be made after distribution (-mesh_faces) is read as cells and vertices only (*deferred): facetRows (rank
-// 0) then holds its tagged faces for labelGmshFacets.
+// 0) then holds its tagged faces ("Face Sets" rows for labelDeferredRows).
 // edgeNodes (rank 0, optional): the edge nodes of the file's 10-node tetrahedra (GmshFacets::edgeNodes).
 PetscErrorCode readGmshMesh(MPI_Comm comm, Mesh *mesh, DM *serial, std::vector<PetscInt> *natural, bool mayDeferFaces,
                             bool *deferred, std::vector<long long> *facetRows,
@@ -30,12 +30,26 @@ PetscErrorCode readGmshMesh(MPI_Comm comm, Mesh *mesh, DM *serial, std::vector<P
 // faces); any other mesh with its faces and edges. Collective.
 PetscErrorCode readGmshSerial(MPI_Comm comm, const Mesh &mesh, const GmshFacets &facets, bool mayDeferFaces,
                               DM *serial, bool *deferred, std::vector<long long> *facetRows);
-// Collective: "Face Sets" of the distributed, interpolated mesh->dm from rank 0's rows (natural ids: mesh->naturalCell
-// and naturalVertex must be set).
-PetscErrorCode labelGmshFacets(MPI_Comm comm, Mesh *mesh, std::vector<long long> rows);
+// Label rows on the faces and edges of a 3D mesh read as cells and vertices only (-mesh_faces distributed), kept until
+// every rank has made the faces and edges of its part: per label name, rows of kPointLabelCols whose first entry is
+// the natural id of a cell, held by the rank whose loaded mesh has that cell.
+struct DeferredLabelRows {
+  std::vector<std::string> names;
+  std::vector<std::vector<long long>> rows;  // per name
+};
+// Collective: the rows moved with their cells when the loaded mesh was distributed (migration: leaf a distributed
+// point, root the loaded point it came from; none on one rank, the rows stay). No rank receives other ranks' rows.
+PetscErrorCode routeDeferredRows(MPI_Comm comm, PetscSF migration, DM loaded, const std::vector<PetscInt> &loadedNatural,
+                                 DeferredLabelRows *deferred);
+// Collective: the labels of the distributed, interpolated mesh->dm from this rank's routed rows (natural ids:
+// mesh->naturalCell and naturalVertex must be set); a label with no row anywhere is not made.
+PetscErrorCode labelDeferredRows(MPI_Comm comm, Mesh *mesh, const DeferredLabelRows &deferred);
 bool isHdf5Mesh(const std::string &file);
 // A mesh converted by convertMesh, read by all ranks in parallel; `natural` as for readGmshMesh, per loaded point.
-PetscErrorCode readHdf5Mesh(MPI_Comm comm, Mesh *mesh, DM *dm, std::vector<PetscInt> *natural);
+// With mayDeferFaces a 3D mesh is built as cells and vertices only (*deferred): its labels' face and edge rows are
+// then left in *deferredRows (this rank's block), its cell and vertex rows applied.
+PetscErrorCode readHdf5Mesh(MPI_Comm comm, Mesh *mesh, DM *dm, std::vector<PetscInt> *natural, bool mayDeferFaces,
+                            bool *deferred, DeferredLabelRows *deferredRows);
 // Label rows on faces, edges and vertices (the HDF5 mesh format, and the facets of a gmsh mesh interpolated after it
 // is distributed): one row per (point, cell that contains it): the cell's id, the point's dimension, the label value
 // and the point's vertex ids (natural, sorted, the first three, -1 padded). Three ids name a face of a hexahedron too.

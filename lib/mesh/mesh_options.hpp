@@ -51,9 +51,9 @@ inline constexpr OptionDecl element =
 
 inline constexpr OptionDecl meshFaces =
     choiceOption("-mesh_faces", "distributed|serial",
-                 "where a gmsh mesh's faces and edges are made: by every rank for its part after the cells are "
-                 "distributed (ASCII 3D meshes, p1 or hexahedra, PETSc's default gmsh labels, -partitioner metis or "
-                 "rcb; any other mesh as serial), or on rank 0 before they are, as PETSc's reader does")
+                 "where a 3D mesh's faces and edges are made: by every rank for its part after the cells are "
+                 "distributed (p1 or hexahedra, not -partitioner ptscotch; gmsh: ASCII, PETSc's default labels; "
+                 "else as serial), or before: a gmsh mesh's on rank 0 (PETSc's reader), an HDF5 mesh's on each block")
         .byDefault("distributed");
 
 inline constexpr const OptionDecl *kMeshOptions[] = {&meshFile, &partitioner, &meshFaces,  &meshConvert,
