@@ -1,9 +1,10 @@
-// The faces and edges of a gmsh mesh made where the mesh lives (mesh/mesh_loading.hpp): PETSc 3.18 interpolates a gmsh
+// The faces and edges of a 3D mesh made where the mesh lives (mesh/mesh_loading.hpp): PETSc 3.18 interpolates a gmsh
 // mesh on rank 0 (DMPlexCreateGmsh: 13 s of a 1M-tetrahedron box's 29 s setup on 2 ranks) and labels its tagged faces
 // there. A 3D mesh is instead read as cells and vertices, distributed, and interpolated by every rank for its part;
 // its tagged faces (read from the file by the structural check, mesh/gmsh_check.hpp) become label rows on rank 0, one
-// per (face, cell containing it), and every rank labels its copies from the rows of its cells ("Face Sets", as PETSc's
-// reader makes them).
+// per (face, cell containing it), which travel with their cells when the mesh is distributed, and every rank labels
+// its copies from the rows of its cells ("Face Sets", as PETSc's reader makes them). An HDF5 mesh's face and edge
+// label rows (mesh_hdf5.cpp) take the same way from the rank whose block of the file holds their cell.
 #include "mesh/mesh_loading.hpp"
 
 #include "core/errors.hpp"

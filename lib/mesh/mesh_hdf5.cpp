@@ -9,7 +9,9 @@
 //                                           the cell's id, the point's dimension, the label value and the point's
 //                                           vertex ids (sorted, -1 padded)
 // Each rank builds its share of the mesh from its block of cells (DMPlexCreateFromCellListParallelPetsc), and the
-// label rows travel to the rank holding their cell, so every copy of a shared face, edge or vertex is labelled.
+// label rows travel to the rank holding their cell, so every copy of a shared face, edge or vertex is labelled. A 3D
+// mesh is built as cells and vertices; its faces and edges, and the labels on them, are made after the cells are
+// repartitioned (-mesh_faces distributed; mesh_facets.cpp).
 #include "mesh/mesh_loading.hpp"
 
 #include "core/errors.hpp"
