@@ -1,9 +1,12 @@
 """Shared pieces of the CTest driver scripts (e2e.py, robustness.py, bad_input.py): how aries is launched on 1 or N
 ranks, how a test mesh is obtained, how output and stats are read, how a case fails."""
+import atexit
 import csv
 import os
+import shutil
 import subprocess
 import sys
+import tempfile
 
 import h5py
 
@@ -17,12 +20,26 @@ def fail(msg):
     sys.exit(1)
 
 
+_SESSION_BASE = []  # this process's Open MPI session directory base, made on first use
+
+
+def _session_base():
+    """A directory of this process's own for Open MPI's session files. Runs of tests side by side (ctest -j) otherwise
+    share /tmp/ompi.HOST.UID, which one run removes as it ends while another is making its job directory in it: the
+    latter then fails in orte_init ("mkdir ... jf.0: No such file or directory"; seen once in a CI run). Kept short
+    (sockets live under it) and removed when the process ends."""
+    if not _SESSION_BASE:
+        _SESSION_BASE.append(tempfile.mkdtemp(prefix="ompi-"))
+        atexit.register(shutil.rmtree, _SESSION_BASE[0], True)
+    return _SESSION_BASE[0]
+
+
 def mpi_env():
-    """Open MPI as root, oversubscribed on small CI machines, without busy-waiting ranks; a one-rank run (no mpiexec)
-    is an isolated singleton, which spawns no daemon."""
+    """Open MPI as root, oversubscribed on small CI machines, without busy-waiting ranks, with session files of its
+    own; a one-rank run (no mpiexec) is an isolated singleton, which spawns no daemon."""
     return dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
                 OMPI_MCA_rmaps_base_oversubscribe="1", OMPI_MCA_mpi_yield_when_idle="1",
-                OMPI_MCA_ess_singleton_isolated="1")
+                OMPI_MCA_ess_singleton_isolated="1", OMPI_MCA_orte_tmpdir_base=_session_base())
 
 
 def aries_cmd(aries, ranks, args):
