@@ -28,7 +28,7 @@ PetscErrorCode HessianFilter::beginSolve(NewtonContext &ctx) {
   ctx.disc->setEigenFilter(initial);
   ctx.disc->setAnalyticEigensystem(opts_.analyticEigensystem);
   ctx.disc->setWholeElementFilter(opts_.wholeElement);
-  const bool lastDefinite = usedExact_ && !gaveUp_;  // the last solve's unfiltered systems were all definite
+  const bool lastDefinite = lastSolveDefinite();
   if (lastDefinite) backoff_ = 0;
   exactNow_ = usedExact_ = false;
   gaveUp_ = skip_ > 0;  // backing off: this solve keeps the filter
@@ -42,7 +42,7 @@ PetscErrorCode HessianFilter::beginSolve(NewtonContext &ctx) {
 }
 
 NewtonMemory HessianFilter::memory() const {
-  const bool lastDefinite = usedExact_ && !gaveUp_;
+  const bool lastDefinite = lastSolveDefinite();
   NewtonMemory m{lastDefinite ? 0 : backoff_, skip_};
   m.filterExactStart = lastDefinite ? 1 : 0;
   return m;

@@ -261,12 +261,14 @@ class HessianFilter final : public NewtonStep {
   void setMode(EigenFilterMode mode) { opts_.mode = mode; }
   // The next solve minimizes another energy than the last one (a shape stage's end): it starts filtered.
   void energyChanged() {
-    if (usedExact_ && !gaveUp_) backoff_ = 0;
+    if (lastSolveDefinite()) backoff_ = 0;
     usedExact_ = false;
   }
 
  private:
   PetscErrorCode giveUp(NewtonContext &ctx);
+  // The last solve assembled unfiltered systems and none of them was indefinite.
+  bool lastSolveDefinite() const { return usedExact_ && !gaveUp_; }
   FilterOptions opts_;
   bool exactNow_ = false;  // this iteration's system is the unfiltered one
   bool gaveUp_ = false;    // an unfiltered system of this solve was indefinite: the filter for the rest of it
