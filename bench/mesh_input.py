@@ -44,13 +44,6 @@ PROBLEM = ["-energy", "iarap", "-E", "1e4", "-nu", "0.3", "-integrator", "static
            "bottom,top", "-bc_clamp_top_translate", "0,0,-0.2", "-ksp_rtol", "1e-8", "-output_fields", "J"]
 
 
-def h5_mesh(size):
-    p = subprocess.run([os.path.join(ROOT, "meshes", "generate.sh"), "h5", "box", size], capture_output=True, text=True)
-    if p.returncode != 0:
-        sys.exit("mesh_input.py: converting box %s to HDF5 failed: %s" % (size, p.stderr[-2000:]))
-    return p.stdout.strip().splitlines()[-1]
-
-
 def run_once(aries, mesh, faces, ranks, tag):
     d = os.path.join(WORK, tag)
     os.makedirs(d, exist_ok=True)
@@ -82,7 +75,7 @@ def main():
     started = datetime.datetime.utcnow().strftime("%Y-%m-%d %H:%M UTC")
     rows = []
     for size in a.sizes.split(","):
-        meshes = {"msh": scenes.generate("box", size), "h5": h5_mesh(size)}
+        meshes = {"msh": scenes.generate("box", size), "h5": scenes.generate("box", size, h5=True)}
         samples = {w: [] for w in WAYS}
         for r in range(a.repeat):
             for w in WAYS:

@@ -62,13 +62,6 @@ VARIANTS = {
 H5_VARIANTS = {"default_h5"}
 
 
-def h5_mesh(size):
-    """meshes/cache/box_SIZE.h5: the .msh converted once by aries -mesh_convert (meshes/generate.sh h5)."""
-    out = subprocess.run([os.path.join(ROOT, "meshes", "generate.sh"), "h5", "box", size], capture_output=True,
-                         text=True)
-    if out.returncode != 0:
-        sys.exit("peer.py: converting box %s to HDF5 failed: %s" % (size, out.stderr[-2000:]))
-    return out.stdout.strip().splitlines()[-1]
 CONVERGED = ("newton_step", "converged_initial", "step_bound", "energy_roundoff")
 
 
@@ -266,7 +259,8 @@ def run_all(sizes, ranks, variants, dolfinx_pcs, binary, before=None, timeout=36
                     other = before and v.startswith("before")
                     binv = os.path.abspath(before) if other else binary
                     extra = VARIANTS[v][2:] if other else VARIANTS[v]
-                    m = run_aries(binv, h5_mesh(size) if v in H5_VARIANTS else msh, size, n, v, extra, timeout, r)
+                    m = run_aries(binv, scenes.generate("box", size, h5=True) if v in H5_VARIANTS else msh, size, n,
+                                  v, extra, timeout, r)
                     if last:
                         print("aries %s %s n%d: %s" % (v, size, n, summary(m)), flush=True)
                         metas.append(m)

@@ -100,8 +100,11 @@ RENDER = {
 }
 
 
-def generate(name, size):
-    out = subprocess.run([os.path.join(ROOT, "meshes", "generate.sh"), name, size], capture_output=True, text=True)
+def generate(name, size, h5=False):
+    """The cached mesh's path (meshes/generate.sh NAME SIZE); with h5, its HDF5 copy (meshes/generate.sh h5 ...,
+    converted once by the aries $ARIES_BIN, default build/aries)."""
+    out = subprocess.run([os.path.join(ROOT, "meshes", "generate.sh")] + (["h5"] if h5 else []) + [name, size],
+                         capture_output=True, text=True)
     if out.returncode != 0:
         sys.exit("mesh generation failed: " + out.stderr[-2000:])
     return out.stdout.strip().splitlines()[-1]
