@@ -298,7 +298,7 @@ def main():
             newton, solves, pcg, secs, failed = averages(st)
             if build:
                 reused.append("%s (%s)" % (n, build))
-            out.append("| %s | %s | %s | %s | %s | %s | %d / %d | %.2f | %.2f | %.1f | %.3f | %d | %.1f | %.1f | %.2f |"
+            out.append("| %s | %s | %s | %s | %s | %d / %d | %.2f | %.2f | %.1f | %.3f | %d | %.1f | %.1f | %.2f |"
                        % (n, label, yml_value(opts, "mu1", extra),
                           yml_value(opts, "mu1" if yml_value(opts, "energy", extra) == "bw46" else "mu2", extra),
                           yml_value(opts, "bending", extra), len(st), paper[3], newton, solves, pcg, secs, failed,
