@@ -51,10 +51,10 @@ inline kernels::Derivs<9> isotropicArapTet(const Mat<3, 3> &F, const kernels::Ro
 }
 
 // True where the mode's I4/I6 treatment equals the raw closed form at this alpha (so the fused path applies).
-inline bool stretchFixInactive(const SingularityParams &sp, double alpha) {
+inline bool stretchFixInactive(const SingularityParams &sp, const Mat<3, 3> &F, double alpha) {
   switch (sp.mode) {
     case SingularityMode::None: return true;
-    case SingularityMode::Mollifier: return alpha > 3.0 * sp.mollifier.eps;
+    case SingularityMode::Mollifier: return kernels::mollifierCoordinate<3, 3>(F, alpha, sp.mollifier) > 3.0 * sp.mollifier.eps;
     case SingularityMode::Barrier: return alpha >= sp.barrier.eps;
   }
   return false;

@@ -1,6 +1,6 @@
 // Evaluation of the I4 / I6 terms of an energy under the chosen singularity mode (paper Sec. 4.2):
 //   none      -> the raw closed form tr(S D) (singular where alpha -> 0: the baseline that shows why fixes exist)
-//   mollifier -> the smootherstep blend to the proxy (Eq. 33), per term
+//   mollifier -> the smootherstep blend to the proxy (Eq. 33), per term, on alpha or its scale-free form
 //   barrier   -> raw terms plus one aberration barrier kappa b(alpha) per element (Eq. 34)
 // alpha and its derivatives are computed once per element and shared by all terms.
 #pragma once
@@ -15,13 +15,19 @@ class StretchTerms {
   static constexpr int N = R * C;
   StretchTerms(const kernels::RootContext<R, C> &ctx, const SingularityParams &sp) : ctx_(ctx), sp_(sp) {
     // alpha's derivatives are only read inside the mollifier's blend band or the barrier's support.
+    // In mollifier mode alpha_ is the band's coordinate (-mollifier_measure: alpha or its scale-free form).
     const double a = ctx.rd.root.alpha;
-    const bool needed = (sp_.mode == SingularityMode::Mollifier && a >= sp_.mollifier.eps && a <= 3.0 * sp_.mollifier.eps) ||
-                        (sp_.mode == SingularityMode::Barrier && a > 0.0 && a < sp_.barrier.eps);
-    if (needed)
+    if (sp_.mode == SingularityMode::Mollifier) {
+      const double m = kernels::mollifierCoordinate<R, C>(ctx.F, a, sp_.mollifier);
+      if (m >= sp_.mollifier.eps && m <= 3.0 * sp_.mollifier.eps)
+        alpha_ = kernels::mollifierCoordinate<R, C>(ctx_, sp_.mollifier);
+      else
+        alpha_.value = m;
+    } else if (sp_.mode == SingularityMode::Barrier && a > 0.0 && a < sp_.barrier.eps) {
       alpha_ = kernels::alphaMeasure(ctx_);
-    else
+    } else {
       alpha_.value = a;
+    }
   }
 
   // tr(S D) (I4 for D = aa^T, I6 for the cross tensor) under the mode.

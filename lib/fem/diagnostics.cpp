@@ -28,7 +28,7 @@ PetscErrorCode DiscretizationT<R, C, NV>::updateBarrierFallback(Vec xLocal, doub
 namespace {
 
 // The owned cells evaluated in singularity mode `mode` whose energies have I4/I6 terms and some point's alpha inside
-// the material's band, `inBand(material, alpha)`, at a local state (collective count).
+// the material's band, `inBand(material, F, alpha)`, at a local state (collective count).
 template <int R, int C, class Cells, class InBand>
 PetscErrorCode countCellsInSingularBand(MPI_Comm comm, const Cells &cells, int points, Vec xLocal,
                                         energies::SingularityMode mode, InBand inBand, PetscInt *count) {
@@ -41,7 +41,8 @@ PetscErrorCode countCellsInSingularBand(MPI_Comm comm, const Cells &cells, int p
     if (!cells.cells()[c].owned || m.singularity.mode != mode || !energies::energyContainsStretchInvariant(m.kind))
       continue;
     for (int p = 0; p < points; ++p) {  // a cell counts once, if any of its points is in the band
-      if (inBand(m, energies::elementAlpha<R, C>(cells.deformationGradient(c, p, x)))) {
+      const kernels::Mat<R, C> F = cells.deformationGradient(c, p, x);
+      if (inBand(m, F, energies::elementAlpha<R, C>(F))) {
         ++local;
         break;
       }
@@ -58,15 +59,19 @@ template <int R, int C, int NV>
 PetscErrorCode DiscretizationT<R, C, NV>::barrierActiveCells(Vec xLocal, PetscInt *count) const {
   return countCellsInSingularBand<R, C>(
       comm(), cells_, NQ, xLocal, energies::SingularityMode::Barrier,
-      [](const energies::Material &m, double a) { return a > 0.0 && a < m.singularity.barrier.eps; }, count);
+      [](const energies::Material &m, const kernels::Mat<R, C> &, double a) {
+        return a > 0.0 && a < m.singularity.barrier.eps;
+      },
+      count);
 }
 
 template <int R, int C, int NV>
 PetscErrorCode DiscretizationT<R, C, NV>::mollifierBandCells(Vec xLocal, PetscInt *count) const {
   return countCellsInSingularBand<R, C>(
       comm(), cells_, NQ, xLocal, energies::SingularityMode::Mollifier,
-      [](const energies::Material &m, double a) {
+      [](const energies::Material &m, const kernels::Mat<R, C> &F, double alpha) {
         const double eps = m.singularity.mollifier.eps;
+        const double a = kernels::mollifierCoordinate<R, C>(F, alpha, m.singularity.mollifier);
         return a >= eps && a <= kMollifierBandEdge * 3.0 * eps;
       },
       count);

@@ -79,6 +79,11 @@ inline constexpr OptionDecl singularity =
         .byDefault("mollifier");
 inline constexpr OptionDecl mollifierEps =
     realOption("-mollifier_eps", "X", "alpha threshold eps of Eq. 33 (blend on [eps, 3 eps])").byDefault("1e-3").above(0);
+inline constexpr OptionDecl mollifierMeasure =
+    choiceOption("-mollifier_measure", "alpha|scale_free",
+                 "what eps is measured in: alpha (Eq. 28, the paper) or alpha (I_C/C)^(-k/2), k = 3 (tets, cloth) or "
+                 "1 (planar), equal to alpha at rest but independent of the stretch's scale (see below)")
+        .byDefault("alpha");
 inline constexpr OptionDecl mollifierProxy =
     realOption("-mollifier_proxy", "X", "the constant proxy g = c of Eq. 33 (scaled by tr D for a fiber tensor D)")
         .byDefault("0");
@@ -87,7 +92,7 @@ inline constexpr OptionDecl barrierEps =
 inline constexpr OptionDecl barrierStiffness =
     realOption("-barrier_stiffness", "X", "kappa in kappa b(alpha)").otherwise("the energy's modulus (mu, mu1)").above(0);
 
-inline constexpr const OptionDecl *kSingularityOptions[] = {&singularity, &mollifierEps, &mollifierProxy,
+inline constexpr const OptionDecl *kSingularityOptions[] = {&singularity, &mollifierEps, &mollifierMeasure, &mollifierProxy,
                                                             &barrierEps, &barrierStiffness};
 
 // ---- boundary conditions ----

@@ -229,6 +229,7 @@ PetscErrorCode readMaterialOptions(const char *prefix, ElementShape shape, const
     if (m.singularity.mode == energies::SingularityMode::Mollifier) {
       PetscCall(core::get(opt::mollifierEps, &m.singularity.mollifier.eps, nullptr, at));
       PetscCall(core::get(opt::mollifierProxy, &m.singularity.mollifier.proxy, nullptr, at));
+      PetscCall(core::getChoice(opt::mollifierMeasure, &m.singularity.mollifier.measure, nullptr, at));
     } else if (m.singularity.mode == energies::SingularityMode::Barrier) {
       PetscCall(core::get(opt::barrierEps, &m.singularity.barrier.eps, nullptr, at));
       PetscCall(core::get(opt::barrierStiffness, &m.singularity.barrierStiffness, nullptr, at));

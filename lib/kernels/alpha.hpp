@@ -40,6 +40,36 @@ inline Derivs<6> alphaMeasure(const RootContext<3, 2> &ctx) {
   return out;
 }
 
+// The scale-free measure (aries, not in the paper): alpha (I_C / C)^(-k/2), k = alpha's degree in F (3 for 3x3 and
+// 3x2, 1 for 2x2), i.e. alpha of F / s with s^2 = I_C / C the mean squared stretch. It equals alpha wherever I_C = C
+// (at rest and near it) and does not change when F is scaled, so a band [eps, 3 eps] in it is the same relative
+// distance to the singular set at every stretch; in alpha itself (~ s^3 in 3D) the band of a cell stretched by s is s^3
+// times thinner in relative terms, and there I4's derivatives (~ 1/alpha) are largest.
+template <int R, int C>
+inline constexpr int alphaDegree = (R == 2 && C == 2) ? 1 : 3;
+
+template <int R, int C>
+inline double scaleFreeFactor(const Mat<R, C> &F) {
+  return std::pow(F.squaredNorm() / C, -0.5 * alphaDegree<R, C>);
+}
+
+// The scale-free measure with its derivatives from alpha's (value, gradient, Hessian at F as `order` asks).
+template <int R, int C>
+inline Derivs<R * C> scaleFreeAlpha(const Mat<R, C> &F, const Derivs<R * C> &alpha, Order order) {
+  constexpr int N = R * C;
+  const double p = -0.5 * alphaDegree<R, C>, u = F.squaredNorm() / C;
+  Derivs<N> h;  // (I_C / C)^p
+  h.value = std::pow(u, p);
+  if (wants(order, Order::Gradient)) {
+    const Vec<N> du = (2.0 / C) * flatten<R, C>(F);
+    const double d1 = p * std::pow(u, p - 1.0);
+    h.grad = d1 * du;
+    if (wants(order, Order::Hessian))
+      h.hess = p * (p - 1.0) * std::pow(u, p - 2.0) * du * du.transpose() + (2.0 / C) * d1 * Mat<N, N>::Identity();
+  }
+  return product<N>(alpha, h, order);
+}
+
 template <int R, int C>
 inline Derivs<R * C> alphaMeasure(const Mat<R, C> &F, Order order = Order::Hessian) {
   return alphaMeasure(makeRootContext<R, C>(F, order));

@@ -15,10 +15,28 @@
 
 namespace aries::kernels {
 
+// What the band [eps, 3 eps] is measured in: alpha (Eq. 28, the paper) or alpha (I_C / C)^(-k/2) (alpha.hpp,
+// scaleFreeAlpha: the same at rest, independent of the stretch's scale).
+enum class MollifierMeasure { Alpha, ScaleFree };
+
 struct MollifierParams {
   double eps = 1e-3;    // alpha threshold (Eq. 33)
   double proxy = 0.0;   // g(F) = c (Eq. 33)
+  MollifierMeasure measure = MollifierMeasure::Alpha;
 };
+
+// The band's coordinate at F from alpha's value there (no derivatives).
+template <int R, int C>
+inline double mollifierCoordinate(const Mat<R, C> &F, double alpha, const MollifierParams &p) {
+  return p.measure == MollifierMeasure::ScaleFree ? alpha * scaleFreeFactor<R, C>(F) : alpha;
+}
+
+// The band's coordinate with the derivatives the context's order asks for (read inside the band only).
+template <int R, int C>
+inline Derivs<R * C> mollifierCoordinate(const RootContext<R, C> &ctx, const MollifierParams &p) {
+  const Derivs<R * C> alpha = alphaMeasure(ctx);
+  return p.measure == MollifierMeasure::ScaleFree ? scaleFreeAlpha<R, C>(ctx.F, alpha, ctx.order) : alpha;
+}
 
 // S2 and its first two derivatives (Eq. 31).
 struct Smootherstep {
@@ -37,7 +55,7 @@ constexpr Smootherstep mollifierBlend(double alpha, double eps) {
   return {s.value, s.d1 / (2.0 * eps), s.d2 / (4.0 * eps * eps)};
 }
 
-// Mollified tr(S D) (Eq. 33). `alpha` must be alphaMeasure(ctx) (passed in so several terms share it); its
+// Mollified tr(S D) (Eq. 33). `alpha` must be mollifierCoordinate(ctx, p) (passed in so several terms share it); its
 // derivatives are only read inside the blend band, and the raw invariant is not evaluated below eps, where its
 // derivatives are unbounded.
 template <int R, int C>
@@ -68,14 +86,14 @@ template <int R, int C>
 inline Derivs<R * C> mollifiedI4(const Mat<R, C> &F, const Vec<C> &a, const MollifierParams &p = {},
                                  Order order = Order::Hessian) {
   const auto ctx = makeRootContext<R, C>(F, order);
-  return mollifiedStretch<R, C>(ctx, fiberTensor<C>(a), alphaMeasure(ctx), p);
+  return mollifiedStretch<R, C>(ctx, fiberTensor<C>(a), mollifierCoordinate(ctx, p), p);
 }
 
 template <int R, int C>
 inline Derivs<R * C> mollifiedI6(const Mat<R, C> &F, const Vec<C> &a, const Vec<C> &b, const MollifierParams &p = {},
                                  Order order = Order::Hessian) {
   const auto ctx = makeRootContext<R, C>(F, order);
-  return mollifiedStretch<R, C>(ctx, crossFiberTensor<C>(a, b), alphaMeasure(ctx), p);
+  return mollifiedStretch<R, C>(ctx, crossFiberTensor<C>(a, b), mollifierCoordinate(ctx, p), p);
 }
 
 }  // namespace aries::kernels

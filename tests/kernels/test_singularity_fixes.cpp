@@ -102,6 +102,52 @@ TEST(Mollifier, ExactlyProxyBelowEpsAndRawAbove3Eps_3x3) { mollifierExactOutside
 TEST(Mollifier, ExactlyProxyBelowEpsAndRawAbove3Eps_2x2) { mollifierExactOutsideBand<2, 2>(); }
 TEST(Mollifier, ExactlyProxyBelowEpsAndRawAbove3Eps_3x2) { mollifierExactOutsideBand<3, 2>(); }
 
+// -mollifier_measure scale_free: the band's coordinate alpha (I_C / C)^(-k/2) equals alpha where I_C = C, does not
+// change when F is scaled, has consistent derivatives, and the mollified I4 / I6 on it pass FD inside its band.
+template <int R, int C>
+void scaleFreeMollifier() {
+  Rng rng(seedOf(std::string("mollifier scale-free ") + shapeTag<R, C>()));
+  MollifierParams p;
+  p.measure = MollifierMeasure::ScaleFree;
+  p.eps = 0.3;  // a band the paper's alpha would put at 1e-3
+  auto coordinate = [&](const Mat<R, C> &G, Order o) { return mollifierCoordinate(makeRootContext<R, C>(G, o), p); };
+  for (const auto &smp : standardFamilies<R, C>(seedOf(std::string("scale-free standard ") + shapeTag<R, C>()))) {
+    const double a = rootValue(smp.F).alpha, c = mollifierCoordinate<R, C>(smp.F, a, p);
+    for (double t : {0.25, 3.0}) {
+      const Mat<R, C> G = t * smp.F;
+      const double cg = mollifierCoordinate<R, C>(G, rootValue(G).alpha, p);
+      EXPECT_NEAR(cg / c, 1.0, 1e-9) << smp.label << " t=" << t;
+    }
+    const Mat<R, C> unit = smp.F * std::sqrt(C / smp.F.squaredNorm());  // I_C = C: the coordinate is alpha
+    const double au = rootValue(unit).alpha, cu = mollifierCoordinate<R, C>(unit, au, p);
+    EXPECT_NEAR(cu, au, 1e-12 * (1.0 + au));
+    expectDerivatives<R, C>(coordinate, smp.F, std::string("scale-free alpha ") + shapeTag<R, C>() + " " + smp.label,
+                            std::string("scale-free alpha ") + shapeTag<R, C>() + " " + smp.family);
+  }
+  int inBand = 0;
+  for (double target : {0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 1.0, 1.2}) {
+    const Mat<R, C> F = alphaF<R, C>(rng, target, false);
+    const double c = mollifierCoordinate<R, C>(F, rootValue(F).alpha, p);
+    if (!(c > p.eps * 1.02 && c < 3.0 * p.eps * 0.98)) continue;
+    ++inBand;
+    const Vec<C> a = randomUnit<C>(rng), b = randomUnit<C>(rng);
+    const std::string what = std::string(" ") + shapeTag<R, C>() + " coordinate=" + std::to_string(c);
+    expectDerivatives<R, C>([&](const Mat<R, C> &G, Order o) { return mollifiedI4<R, C>(G, a, p, o); }, F,
+                            "scale-free mollified I4" + what, std::string("scale-free mollified I4 ") + shapeTag<R, C>());
+    expectDerivatives<R, C>([&](const Mat<R, C> &G, Order o) { return mollifiedI6<R, C>(G, a, b, p, o); }, F,
+                            "scale-free mollified I6" + what, std::string("scale-free mollified I6 ") + shapeTag<R, C>());
+    // a genuine blend: strictly between the proxy 0 and the raw value
+    const double raw = invariantI4<R, C>(F, a, Order::Value).value, mol = mollifiedI4<R, C>(F, a, p).value;
+    EXPECT_LT(std::abs(mol), std::abs(raw)) << what;
+    EXPECT_GT(std::abs(mol), 0.0) << what;
+  }
+  EXPECT_GE(inBand, 2) << "too few samples inside the scale-free band";
+}
+
+TEST(Mollifier, ScaleFreeMeasure_3x3) { scaleFreeMollifier<3, 3>(); }
+TEST(Mollifier, ScaleFreeMeasure_2x2) { scaleFreeMollifier<2, 2>(); }
+TEST(Mollifier, ScaleFreeMeasure_3x2) { scaleFreeMollifier<3, 2>(); }
+
 TEST(Mollifier, SmootherstepProfile) {
   // S2(0) = 0, S2(1) = 1, S2' = S2'' = 0 at both ends, S2(1/2) = 1/2, and derivatives consistent with FD.
   EXPECT_EQ(smootherstep(0.0).value, 0.0);

@@ -28,7 +28,7 @@ inline kernels::RootDerivatives<3> fusedRootDerivatives(const EnergyInput<3, 3> 
 // generic direction terms apply.
 inline std::optional<kernels::Derivs<9>> fusedOutsideFixBand(const EnergyInput<3, 3> &in, double w) {
   const auto rd = fusedRootDerivatives(in);
-  if (!stretchFixInactive(in.m.singularity, rd.root.alpha)) return std::nullopt;
+  if (!stretchFixInactive(in.m.singularity, in.F, rd.root.alpha)) return std::nullopt;
   return fusedIsotropicArapTet(in, rd, w);
 }
 
