@@ -114,7 +114,7 @@ PetscErrorCode printResources(MPI_Comm comm, double setupSeconds, const solver::
           std::to_string((long)(sorted.back() + 0.5)) + ", rank 0 " + std::to_string((long)(rss[0] + 0.5));
   }
   PetscCall(PetscPrintf(comm,
-                        "aries: wall time setup %.2f s, steps %.2f s (model evaluations %.2f s), output %.2f s; peak "
+                        "aries: wall time setup %.3f s, steps %.3f s (model evaluations %.3f s), output %.3f s; peak "
                         "memory per rank %s MB\n",
                         most[0], summary.totalSeconds, most[1], most[2], mem.c_str()));
   PetscFunctionReturn(0);
