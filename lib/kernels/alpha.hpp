@@ -59,7 +59,7 @@ inline Derivs<R * C> scaleFreeAlpha(const Mat<R, C> &F, const Derivs<R * C> &alp
   constexpr int N = R * C;
   const double p = -0.5 * alphaDegree<R, C>, u = F.squaredNorm() / C;
   Derivs<N> h;  // (I_C / C)^p
-  h.value = std::pow(u, p);
+  h.value = scaleFreeFactor<R, C>(F);
   if (wants(order, Order::Gradient)) {
     const Vec<N> du = (2.0 / C) * flatten<R, C>(F);
     const double d1 = p * std::pow(u, p - 1.0);
