@@ -162,7 +162,7 @@ PetscErrorCode run(int *exitCode) {
   fem::Mesh mesh;
   PetscCall(fem::loadMesh(comm, &mesh));
   fem::FemOptions femOpts;
-  PetscCall(fem::readFemOptions(mesh, &femOpts));
+  PetscCall(fem::readFemOptions(mesh, solver::degenerateDynamicStart(simOpts), &femOpts));
   std::unique_ptr<fem::Discretization> disc;
   PetscCall(fem::Discretization::create(
       mesh, femOpts, simOpts.integrator == solver::Integrator::BackwardEuler ? simOpts.dt : 0.0, &disc));
@@ -202,6 +202,10 @@ PetscErrorCode run(int *exitCode) {
                         energies::singularityName(m.singularity.mode),
                         simOpts.integrator == solver::Integrator::Static ? "static" : "backward Euler",
                         (int)simOpts.steps, simOpts.dt, mesh.diagonal));
+  if (const energies::Material *band = disc->scaleFreeBandMaterial())  // not the paper's band: say so
+    PetscCall(PetscPrintf(comm, "aries: energy %s: the singularity mollifier's band is on the scale-free coordinate, "
+                                "eps %g (-mollifier_measure, -mollifier_eps; docs/options.md, The scale-free band)\n",
+                          energies::energyName(band->kind), band->singularity.mollifier.eps));
   solver::RunSummary summary;
   PetscCall(sim.run(&output, &summary));
   const std::string stepsRun = summary.firstStep > 1  // after -restart the averages cover the steps this run made

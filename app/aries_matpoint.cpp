@@ -234,7 +234,7 @@ PetscErrorCode run() {
 
   energies::Material m;
   fem::UniformCellData cell;
-  PetscCall(fem::readMaterialOptions(nullptr, shape, nullptr, nullptr, &m, &cell));
+  PetscCall(fem::readMaterialOptions(nullptr, shape, nullptr, nullptr, false, &m, &cell));
 
   if (hasF) {
     PetscCall(core::rejectUnusedOptions());

@@ -15,17 +15,22 @@ to nu 0's.
 usage: /usr/bin/python3 bench/degenerate_starts.py [--build build] [--energies A,B] [--meshes M,N] [--seeds 1,2,3]
                                                   [--ranks 1,2] [--nus 0,0.3,0.45] [--timeout S] [--no-static]
                                                   [--no-before] [--extra "OPTIONS"] [--variant "OPTIONS"] [--out NAME]
+                                                  [--start scramble|invert]
   defaults: the energies iarap, fiber x, fiber oblique and ortho (also known: ortho equal, ortho mild: the ortho
   basis with equal moduli and with 1.2 : 1 : 0.8), every mesh, seed 1-3, 1 and 2 ranks, nu 0, 0.3 and 0.45, 1800 s
   per run, the static starts and the runs without the shape stage too (--no-static, --no-before skip them), no
   variant; --extra adds options to every dynamic run (e.g. "-snes_max_it 60 -on_failure continue": a stalling run then
   ends with the statistics of where it stalled instead of at --timeout; with the default -on_failure stop, a failed
-  step's row is the last accepted state's); --out NAME writes bench/results/NAME.md (default degenerate_starts). A
-  run past --timeout is reported as not converged. Each run's step-1 min alpha is reported against the band of the
-  singularity mollifier (Eq. 33: alpha in [eps, 3 eps], eps = -mollifier_eps): a run that stalls with its least alpha
-  there is held by the band (see "Where the runs end" in the report), and the signed principal stretches of the cell
-  with that alpha, read from step 1's written state (-output_fields alpha,principal_stretches), with their relative
-  gap (s2 + s3) / s2: how close the cell is to the singular set s2 = -s3 of I4 (Sec. 4).
+  step's row is the last accepted state's); --out NAME writes bench/results/NAME.md (default degenerate_starts);
+  --start invert makes the dynamic runs start inside out (x = -X about the centroid) instead of scrambled. A
+  run past --timeout is reported as not converged. Each run's step-1 least band coordinate is reported against the
+  band of the singularity mollifier (Eq. 33: the coordinate in [eps, 3 eps], eps = -mollifier_eps; the coordinate is
+  alpha, or its scale-free form where the run's console names that band, -mollifier_measure): a run that stalls with
+  its least coordinate there is held by the band (see "Where the runs end" in the report), and the signed principal
+  stretches of the cell with that coordinate, read from step 1's written state (-output_fields
+  alpha,principal_stretches), with their relative gap (s2 + s3) / s2: how close the cell is to the singular set
+  s2 = -s3 of I4 (Sec. 4). The static starts (scramble and inside out, nu 0.3 and 0.45, 2 ranks) run every energy
+  of --energies.
 """
 import argparse
 import csv
@@ -40,7 +45,10 @@ import subprocess
 import sys
 import time
 
+import re
+
 import h5py
+import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 MESHES = ["camel", "triceratops", "hand"]  # meshes/generate.sh NAME default: 16.6k, 30.2k, 34.1k tets
@@ -55,7 +63,10 @@ ENERGIES = {
     "ortho mild": ["-energy", "ortho", "-ortho_mu", "3846,4615,3077", "-fiber", "1,0.5,0.2", "-fiber2", "0,1,0"],
 }
 DEFAULT_ENERGIES = ["iarap", "fiber x", "fiber oblique", "ortho"]
-MOLLIFIER_EPS = 1e-3  # aries' -mollifier_eps default: the band of Eq. (33) is alpha in [eps, 3 eps]
+MOLLIFIER_EPS = 1e-3  # aries' -mollifier_eps default on alpha: the band of Eq. (33) is alpha in [eps, 3 eps]
+# aries' console line for a band on the scale-free coordinate (the default of these dynamic starts with anisotropic
+# I4/I6 terms, or -mollifier_measure scale_free)
+SCALE_FREE_LINE = re.compile(r"the singularity mollifier's band is on the scale-free coordinate, eps (\S+) ")
 NUS = ["0", "0.3", "0.45"]
 ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
            OMPI_MCA_rmaps_base_oversubscribe="1")
@@ -81,11 +92,11 @@ def run(build, ranks, args, stats, timeout=1800):
                               timeout=timeout, start_new_session=True)
     except subprocess.TimeoutExpired:
         subprocess.run(["pkill", "-f", os.path.join(build, "aries")])
-        return 124, [], time.perf_counter() - t0, [f"timeout after {timeout:.0f} s"]
+        return 124, [], time.perf_counter() - t0, [f"timeout after {timeout:.0f} s"], ""
     wall = time.perf_counter() - t0
     rows = list(csv.DictReader(line for line in open(stats) if not line.startswith("#"))) if os.path.exists(stats) \
         else []
-    return proc.returncode, rows, wall, proc.stderr.strip().splitlines()[-1:] if proc.returncode else []
+    return proc.returncode, rows, wall, proc.stderr.strip().splitlines()[-1:] if proc.returncode else [], proc.stdout
 
 
 # aries' reasons of a converged step (solver::reasonName; a step recovered by -on_failure halve_dt appends
@@ -108,15 +119,27 @@ def mollifier_eps(options):
     return eps
 
 
-def least_alpha_stretches(path):
-    """The signed principal stretches (s1 >= s2 >= |s3|; s3 < 0: inverted) of the cell with the least alpha in a
-    written state, or None where the step wrote none (a run stopped before it)."""
+def band_of(console, options):
+    """The run's band: ("scale_free", eps) where its console names it, else ("alpha", the options' eps)."""
+    m = SCALE_FREE_LINE.search(console or "")
+    return ("scale_free", float(m.group(1))) if m else ("alpha", mollifier_eps(options))
+
+
+def least_band_cell(path, measure):
+    """(least band coordinate, that cell's signed principal stretches (s1 >= s2 >= |s3|; s3 < 0: inverted)) in a
+    written state, or (nan, None) where the step wrote none (a run stopped before it). The coordinate is alpha, or on
+    the scale-free band alpha (I_C / 3)^(-3/2) (kernels/alpha.hpp, scaleFreeAlpha), from the stretches: both are
+    functions of them (alpha = 8 (s1+s2)(s1+s3)(s2+s3), Eq. 28), one point per P1 tet."""
     if not os.path.exists(path):
-        return None
+        return float("nan"), None
     with h5py.File(path, "r") as f:
         alpha = f["cell/alpha"][()].ravel()
         stretches = f["cell/principal_stretches"][()].reshape(-1, 3)
-    return [float(v) for v in stretches[int(alpha.argmin())]]
+    if measure == "scale_free":
+        ic = (stretches ** 2).sum(axis=1)
+        alpha = alpha * (ic / 3.0) ** -1.5
+    k = int(np.argmin(alpha))
+    return float(alpha[k]), [float(v) for v in stretches[k]]
 
 
 def relative_gap(s):
@@ -129,12 +152,14 @@ def stretches_text(s):
 
 
 def band_ratio(r):
-    """A run's step-1 least alpha over the top of the mollifier's band, 3 eps (Eq. 33: the band is [eps, 3 eps])."""
-    return r["min_alpha"] / (3.0 * r["eps"])
+    """A run's step-1 least band coordinate over the top of the mollifier's band, 3 eps (Eq. 33: [eps, 3 eps]); on
+    alpha it is the statistics' min alpha (every quadrature point), on the scale-free band the written state's."""
+    return (r["min_alpha"] if r["band"] == "alpha" else r["min_band"]) / (3.0 * r["eps"])
 
 
 def at_band(r):
-    """The least alpha in the band or at its top edge (within 10% above 3 eps), where the I4/I6 terms' forces peak."""
+    """The least coordinate in the band or at its top edge (within 10% above 3 eps), where the I4/I6 terms' forces
+    peak."""
     return 1.0 / 3.0 <= band_ratio(r) <= 1.1
 
 
@@ -162,10 +187,14 @@ def main():
     parser.add_argument("--no-static", action="store_true")
     parser.add_argument("--no-before", action="store_true", help="skip the runs without the shape stage")
     parser.add_argument("--variant", default="", help="solver options every dynamic run is repeated with")
+    parser.add_argument("--start", default="scramble", choices=("scramble", "invert"),
+                        help="the dynamic runs' -initial (invert: deterministic, so one seed)")
     parser.add_argument("--out", default="degenerate_starts")
     args = parser.parse_args()
     meshes = args.meshes.split(",")
     seeds = [int(x) for x in args.seeds.split(",")]
+    if args.start == "invert" and len(seeds) > 1:
+        sys.exit("degenerate_starts: error: --start invert is deterministic: give one --seeds value")
     ranks_list = [int(x) for x in args.ranks.split(",")]
     energies = args.energies.split(",")
     for e in energies:
@@ -183,21 +212,23 @@ def main():
 
     def dynamic(mesh, tets, held, energy, nu, seed, ranks, extra=()):
         a = ["-dm_plex_filename", mesh, "-E", "1e4", "-nu", nu, "-integrator", "beuler", "-dt", "1e-2",
-             "-steps", "2", "-density", "1000", "-gravity", "0,0,-9.81", "-initial", "scramble",
-             "-scramble_seed", str(seed), "-bc_box", held] + ENERGIES[energy] + extra_all + list(extra)
+             "-steps", "2", "-density", "1000", "-gravity", "0,0,-9.81", "-initial", args.start] + \
+            (["-scramble_seed", str(seed)] if args.start == "scramble" else []) + \
+            ["-bc_box", held] + ENERGIES[energy] + extra_all + list(extra)
         state = os.path.join(work, "state")
         shutil.rmtree(state + ".steps", ignore_errors=True)
         a += ["-output", state, "-output_fields", "alpha,principal_stretches"]
-        rc, rows, wall, err = run(args.build, ranks, a, os.path.join(work, "stats.csv"), args.timeout)
+        rc, rows, wall, err, console = run(args.build, ranks, a, os.path.join(work, "stats.csv"), args.timeout)
         ok = rc == 0 and len(rows) == 2 and all(step_converged(r["reason"]) for r in rows)
         s1 = rows[0] if rows else {}
+        band, eps = band_of(console, extra_all + list(extra))
+        min_band, stretches = least_band_cell(state + ".steps/state_000001.h5", band)
         return dict(mesh=os.path.basename(mesh), tets=tets, energy=energy, nu=nu, seed=seed, ranks=ranks, ok=ok,
                     rc=rc, updates=int(s1.get("newton_its", -1)), cg=int(s1.get("ksp_its", -1)),
                     at_limit=int(s1.get("ksp_at_limit", -1)), seconds=float(s1.get("wall_s", "nan")),
                     step2=int(rows[1]["newton_its"]) if len(rows) > 1 else -1, reason=s1.get("reason", str(err)),
                     energy_value=float(s1.get("energy", "nan")), min_alpha=float(s1.get("min_alpha", "nan")),
-                    eps=mollifier_eps(extra_all + list(extra)), extra=" ".join(extra),
-                    stretches=least_alpha_stretches(state + ".steps/state_000001.h5"))
+                    band=band, eps=eps, min_band=min_band, extra=" ".join(extra), stretches=stretches)
 
     for name in meshes:
         mesh, tets, held = mesh_path(name)
@@ -221,13 +252,12 @@ def main():
     static = []
     for name in [] if args.no_static else meshes:
         mesh, tets, held = mesh_path(name)
-        for start in ("scramble", "invert"):
-            for nu in ("0.3", "0.45"):
-                a = ["-dm_plex_filename", mesh, "-energy", "iarap", "-E", "1e4", "-nu", nu, "-integrator", "static",
-                     "-steps", "1", "-initial", start, "-bc_box", held]
-                rc, rows, wall, err = run(args.build, 2, a, os.path.join(work, "stats.csv"), args.timeout)
+        for energy, start, nu in ((e, s, n) for e in energies for s in ("scramble", "invert") for n in ("0.3", "0.45")):
+                a = ["-dm_plex_filename", mesh, "-E", "1e4", "-nu", nu, "-integrator", "static", "-steps", "1",
+                     "-initial", start, "-bc_box", held] + ENERGIES[energy]
+                rc, rows, wall, err, _ = run(args.build, 2, a, os.path.join(work, "stats.csv"), args.timeout)
                 s1 = rows[0] if rows else {}
-                static.append(dict(mesh=name, tets=tets, start=start, nu=nu, rc=rc,
+                static.append(dict(mesh=name, tets=tets, energy=energy, start=start, nu=nu, rc=rc,
                                    updates=int(s1.get("newton_its", -1)), cg=int(s1.get("ksp_its", -1)),
                                    at_limit=int(s1.get("ksp_at_limit", -1)), seconds=float(s1.get("wall_s", "nan")),
                                    reason=s1.get("reason", str(err))))
@@ -238,7 +268,7 @@ def main():
     lines += [f"# Degenerate starts with a volume term", "",
               f"Generated by `bench/degenerate_starts.py {shlex.join(sys.argv[1:])}` on {os.cpu_count()} cores, "
               f"{datetime.datetime.utcnow():%Y-%m-%d %H:%M} UTC, {time.perf_counter() - started:.0f} s. Dynamic "
-              "scramble: backward Euler dt 1e-2, density 1000, gravity, E 1e4, 2 steps, the lowest tenth held; "
+              f"{'scramble' if args.start == 'scramble' else 'inside-out start (-initial invert)'}: backward Euler dt 1e-2, density 1000, gravity, E 1e4, 2 steps, the lowest tenth held; "
               "meshes " + ", ".join(f"{m} default" for m in meshes) + f"; seeds {seeds}; ranks {ranks_list}. "
               "Step 1 unless said.", "",
               f"Every dynamic run converged in both steps: **{all(r['ok'] for r in main_runs)}** "
@@ -312,20 +342,24 @@ def main():
                          f"{r['seconds']:.2f} | {w['ok']} | {w['updates']} | {w['cg']} | {w['at_limit']} | "
                          f"{w['seconds']:.2f} |")
     if static:
-        lines += ["", "## Static starts (iarap, 2 ranks, the detached start with its shape stage)", "",
-                  "| mesh | start | nu | exit | updates | CG | at limit | seconds | reason |",
-                  "|---|---|---:|---:|---:|---:|---:|---:|---|"]
+        lines += ["", "## Static starts (2 ranks, the detached start)", "",
+                  f"Every static run converged: **{all(r['rc'] == 0 and step_converged(r['reason']) for r in static)}**"
+                  f" ({sum(r['rc'] == 0 and step_converged(r['reason']) for r in static)} of {len(static)}); linear "
+                  f"solves at -ksp_max_it: **{sum(max(r['at_limit'], 0) for r in static)}**.", "",
+                  "| mesh | energy | start | nu | exit | updates | CG | at limit | seconds | reason |",
+                  "|---|---|---|---:|---:|---:|---:|---:|---:|---|"]
     for r in static:
-        lines.append(f"| {r['mesh']} | {r['start']} | {r['nu']} | {r['rc']} | {r['updates']} | {r['cg']} | "
-                     f"{r['at_limit']} | {r['seconds']:.2f} | {r['reason']} |")
+        lines.append(f"| {r['mesh']} | {r['energy']} | {r['start']} | {r['nu']} | {r['rc']} | {r['updates']} | "
+                     f"{r['cg']} | {r['at_limit']} | {r['seconds']:.2f} | {r['reason']} |")
     failed = [r for r in results if not r["ok"]]
-    lines += ["", "## Where the runs end (step 1's least alpha against the mollifier's band)", "",
-              "The singularity mollifier (Eq. 33) blends the I4/I6 terms out on alpha in [eps, 3 eps] (eps = "
-              "-mollifier_eps); 'alpha / 3 eps' is step 1's least alpha over the band's top, at the last iterate "
-              "(converged or not). Runs that converged: %d, alpha / 3 eps %s. Runs that did not: %d; of them %d with "
-              "the least alpha in the band or at its top edge (alpha / 3 eps in [1/3, 1.1]), %d below the band, %d "
-              "without statistics (stopped by --timeout). (aries' console line for a failed step counts the cells "
-              "in [eps, 2 x 3 eps].)" % (
+    lines += ["", "## Where the runs end (step 1's least band coordinate against the mollifier's band)", "",
+              "The singularity mollifier (Eq. 33) blends the I4/I6 terms out where the band's coordinate is in "
+              "[eps, 3 eps] (eps = -mollifier_eps; the coordinate is alpha, or on the scale-free band alpha (I_C / 3)"
+              "^(-3/2), column 'band'); 'coord. / 3 eps' is step 1's least coordinate over the band's top, at the "
+              "last iterate (converged or not). Runs that converged: %d, coord. / 3 eps %s. Runs that did not: %d; "
+              "of them %d with the least coordinate in the band or at its top edge (coord. / 3 eps in [1/3, 1.1]), "
+              "%d below the band, %d without statistics (stopped by --timeout). (aries' console line for a failed "
+              "step counts the cells in [eps, 2 x 3 eps].)" % (
                   len(results) - len(failed),
                   "from %.3g to %.3g" % (min(band_ratio(r) for r in results if r["ok"]),
                                          max(band_ratio(r) for r in results if r["ok"]))
@@ -334,7 +368,7 @@ def main():
                   sum(math.isnan(r["min_alpha"]) for r in failed))]
     held = [r for r in failed if at_band(r) and r["stretches"]]
     if held:
-        lines += ["", "The least-alpha cell of each of those %d failed runs held at the band: inverted in %d (s3 < 0), "
+        lines += ["", "The least-coordinate cell of each of those %d failed runs held at the band: inverted in %d (s3 < 0), "
                   "stretches s1 from %.3g to %.3g and s2 from %.3g to %.3g, relative gap (s2 + s3) / s2 from %.3g to "
                   "%.3g. Near s2 = -s3, alpha = 8 (s1+s2)(s1+s3)(s2+s3) is linear in the gap with the factor 8 (s1+s2)"
                   "(s1+s3): the larger the stretches, the smaller the gap at the band's top (alpha = 3 eps), and the "
@@ -344,13 +378,13 @@ def main():
                       min(r["stretches"][1] for r in held), max(r["stretches"][1] for r in held),
                       min(relative_gap(r["stretches"]) for r in held), max(relative_gap(r["stretches"]) for r in held))]
     lines += ["", "## Every dynamic run", "", "| mesh | energy | nu | seed | ranks | converged | step-1 updates | CG | "
-              "at limit | seconds | step-1 min alpha | alpha / 3 eps | its cell's stretches | (s2 + s3) / s2 | "
-              "step-2 updates | reason | options |",
-              "|---|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---|---|---:|---:|---|---|"]
+              "at limit | seconds | step-1 min alpha | band, eps | coord. / 3 eps | its cell's stretches | "
+              "(s2 + s3) / s2 | step-2 updates | reason | options |",
+              "|---|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---|---:|---|---:|---:|---|---|"]
     for r in results:
         lines.append(f"| {r['mesh']} | {r['energy']} | {r['nu']} | {r['seed']} | {r['ranks']} | {r['ok']} | "
                      f"{r['updates']} | {r['cg']} | {r['at_limit']} | {r['seconds']:.2f} | {r['min_alpha']:.3g} | "
-                     f"{band_ratio(r):.3g} | {stretches_text(r['stretches'])} | {relative_gap(r['stretches']):.3g} | "
+                     f"{r['band']}, {r['eps']:g} | {band_ratio(r):.3g} | {stretches_text(r['stretches'])} | {relative_gap(r['stretches']):.3g} | "
                      f"{r['step2']} | {r['reason']} | "
                      f"{' '.join(extra_all + r['extra'].split())} |")
     text = "\n".join(lines) + "\n"

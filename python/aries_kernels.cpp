@@ -80,7 +80,7 @@ ReadMaterial readMaterial(const std::string &energy, ElementShape shape,
   ierr = PetscOptionsSetValue(db, "-energy", energy.c_str());
   for (const auto &[name, text] : options)
     if (!ierr) ierr = PetscOptionsSetValue(db, ("-" + name).c_str(), text.c_str());
-  if (!ierr) ierr = fem::readMaterialOptions(nullptr, shape, nullptr, nullptr, &out.material, &out.cell);
+  if (!ierr) ierr = fem::readMaterialOptions(nullptr, shape, nullptr, nullptr, false, &out.material, &out.cell);
   if (!ierr) ierr = core::rejectUnusedOptions();
   PetscPopErrorHandler();
   PetscOptionsPop();

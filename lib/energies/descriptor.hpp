@@ -3,7 +3,8 @@
 //   tet, planar, cloth       the element shapes it is defined for (3x3, 2x2, 3x2 F)
 //   flags                    stretch (has I4/I6 terms: -singularity applies), fibers (reads the fiber a, and b on
 //                            cloth), basis (an orthonormal basis from -fiber/-fiber2), volume (lambda/2 (J - J0)^2),
-//                            shear (tets/planar: needs mu > 0), mu2 (cloth: reads -mu2)
+//                            shear (tets/planar: needs mu > 0), mu2 (cloth: reads -mu2), isotropic (its I4/I6 terms
+//                            weigh every direction alike, Eq. 39: the band default of degenerate dynamic starts, below)
 //   cellField                a per-cell field the solver computes from the mesh for it (CellField: shape targets,
 //                            surface curvature); fem/cell_fields.hpp provides each
 //   params                   its own options with help strings (ParamSpec), read by fem/material_options.cpp
@@ -51,6 +52,7 @@ struct ParamSpec {
 struct EnergyDefaults {
   static constexpr bool tet = true, planar = true, cloth = false;
   static constexpr bool stretch = false, fibers = false, basis = false, volume = false, shear = true, mu2 = true;
+  static constexpr bool isotropic = false;
   static constexpr CellField cellField = CellField::None;
   static constexpr std::array<ParamSpec, 0> params{};
   static std::string finalize(Material &, int /*dim*/) { return {}; }

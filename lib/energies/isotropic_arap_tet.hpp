@@ -54,7 +54,8 @@ inline kernels::Derivs<9> isotropicArapTet(const Mat<3, 3> &F, const kernels::Ro
 inline bool stretchFixInactive(const SingularityParams &sp, const Mat<3, 3> &F, double alpha) {
   switch (sp.mode) {
     case SingularityMode::None: return true;
-    case SingularityMode::Mollifier: return kernels::mollifierCoordinate<3, 3>(F, alpha, sp.mollifier) > 3.0 * sp.mollifier.eps;
+    case SingularityMode::Mollifier:
+      return kernels::aboveMollifierBand(kernels::mollifierCoordinate<3, 3>(F, alpha, sp.mollifier), sp.mollifier);
     case SingularityMode::Barrier: return alpha >= sp.barrier.eps;
   }
   return false;

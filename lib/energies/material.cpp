@@ -53,6 +53,9 @@ const char *singularityName(SingularityMode mode) {
 bool energyContainsStretchInvariant(EnergyKind kind) { return energyInfo(kind).stretch; }
 bool energySupportsShape(EnergyKind kind, ElementShape shape) { return energyInfo(kind).supports(shape); }
 bool energyUsesFibers(EnergyKind kind) { return energyInfo(kind).fibers; }
+bool energyHasAnisotropicStretchTerms(EnergyKind kind) {
+  return energyInfo(kind).stretch && !energyInfo(kind).isotropic;
+}
 bool energyUsesVolumeTerm(EnergyKind kind) { return energyInfo(kind).volume; }
 CellField energyCellField(EnergyKind kind) { return energyInfo(kind).cellField; }
 

@@ -105,6 +105,9 @@ const char *singularityName(SingularityMode mode);
 bool energyContainsStretchInvariant(EnergyKind kind);  // has I4/I6 terms, i.e. -singularity applies
 bool energySupportsShape(EnergyKind kind, ElementShape shape);
 bool energyUsesFibers(EnergyKind kind);       // reads CellData::a (and b for cloth)
+// Has I4/I6 terms that weigh directions differently (every stretch energy but iarap: fibers, a basis with its own
+// moduli, layered directions, shape targets).
+bool energyHasAnisotropicStretchTerms(EnergyKind kind);
 bool energyUsesVolumeTerm(EnergyKind kind);   // has lambda/2 (J - J0)^2 (square F only)
 
 // A per-cell field an energy's elements take from the mesh rather than from options; the solver computes it

@@ -13,7 +13,7 @@ struct EnergyInfo {
   EnergyKind kind;
   const char *name, *summary;
   bool tet, planar, cloth;
-  bool stretch, fibers, basis, volume, shear, mu2;
+  bool stretch, fibers, basis, volume, shear, mu2, isotropic;
   const ParamSpec *params;
   int numParams;
   std::string (*finalize)(Material &, int dim);
@@ -24,7 +24,7 @@ struct EnergyInfo {
 template <class E>
 constexpr EnergyInfo energyInfoOf(EnergyKind kind) {
   return {kind,     E::name,   E::summary, E::tet,  E::planar,        E::cloth,
-          E::stretch, E::fibers, E::basis,   E::volume, E::shear,     E::mu2,
+          E::stretch, E::fibers, E::basis,   E::volume, E::shear,     E::mu2, E::isotropic,
           E::params.data(), static_cast<int>(E::params.size()), &E::finalize, E::cellField};
 }
 

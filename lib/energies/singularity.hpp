@@ -19,7 +19,7 @@ class StretchTerms {
     const double a = ctx.rd.root.alpha;
     if (sp_.mode == SingularityMode::Mollifier) {
       const double m = kernels::mollifierCoordinate<R, C>(ctx.F, a, sp_.mollifier);
-      if (m >= sp_.mollifier.eps && m <= 3.0 * sp_.mollifier.eps)
+      if (kernels::inMollifierBand(m, sp_.mollifier))
         alpha_ = kernels::mollifierCoordinate<R, C>(ctx_, sp_.mollifier);
       else
         alpha_.value = m;

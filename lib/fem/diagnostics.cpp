@@ -70,9 +70,8 @@ PetscErrorCode DiscretizationT<R, C, NV>::mollifierBandCells(Vec xLocal, PetscIn
   return countCellsInSingularBand<R, C>(
       comm(), cells_, NQ, xLocal, energies::SingularityMode::Mollifier,
       [](const energies::Material &m, const kernels::Mat<R, C> &F, double alpha) {
-        const double eps = m.singularity.mollifier.eps;
-        const double a = kernels::mollifierCoordinate<R, C>(F, alpha, m.singularity.mollifier);
-        return a >= eps && a <= kMollifierBandEdge * 3.0 * eps;
+        const kernels::MollifierParams &band = m.singularity.mollifier;
+        return kernels::inMollifierBand(kernels::mollifierCoordinate<R, C>(F, alpha, band), band, kMollifierBandEdge);
       },
       count);
 }

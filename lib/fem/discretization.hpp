@@ -123,6 +123,15 @@ class Discretization {
       if (energies::energyUsesFibers(m.kind)) return true;
     return false;
   }
+  // The first material whose mollifier band is on the scale-free coordinate (-mollifier_measure scale_free; the
+  // default of degenerate dynamic starts with anisotropic I4/I6 terms), or nullptr.
+  const energies::Material *scaleFreeBandMaterial() const {
+    for (const energies::Material &m : materials_)
+      if (energies::energyContainsStretchInvariant(m.kind) && m.singularity.mode == energies::SingularityMode::Mollifier &&
+          m.singularity.mollifier.measure == kernels::MollifierMeasure::ScaleFree)
+        return &m;
+    return nullptr;
+  }
   // Turns the volume terms lambda/2 (J - J0)^2 of every material off (true) or back to their read values (false).
   // Returns whether the energy changed (some material has a volume term with lambda != 0).
   bool suspendVolumeTerms(bool suspend);

@@ -14,10 +14,11 @@ using core::OptionDecl;
 namespace {
 
 // The global material, then one per -regions entry (starting from the global one: prefix region_<id>_).
-PetscErrorCode readMaterials(const Mesh &mesh, std::vector<MaterialOptions> *materials) {
+PetscErrorCode readMaterials(const Mesh &mesh, bool degenerateDynamicStart, std::vector<MaterialOptions> *materials) {
   PetscFunctionBeginUser;
   MaterialOptions base;
-  PetscCall(readMaterialOptions(nullptr, mesh.shape, nullptr, nullptr, &base.material, &base.cell));
+  PetscCall(readMaterialOptions(nullptr, mesh.shape, nullptr, nullptr, degenerateDynamicStart, &base.material,
+                                &base.cell));
   materials->push_back(base);
   std::vector<std::string> regionIds;
   PetscBool set = PETSC_FALSE;
@@ -26,7 +27,8 @@ PetscErrorCode readMaterials(const Mesh &mesh, std::vector<MaterialOptions> *mat
     const std::string prefix = "region_" + rid + "_";
     MaterialOptions m;
     m.region = rid;
-    PetscCall(readMaterialOptions(prefix.c_str(), mesh.shape, &base.material, &base.cell, &m.material, &m.cell));
+    PetscCall(readMaterialOptions(prefix.c_str(), mesh.shape, &base.material, &base.cell, degenerateDynamicStart,
+                                  &m.material, &m.cell));
     materials->push_back(m);
   }
   PetscFunctionReturn(0);
@@ -128,13 +130,13 @@ PetscErrorCode readLoads(int dim, bool volume, bool planar, std::vector<SurfaceL
 
 }  // namespace
 
-PetscErrorCode readFemOptions(const Mesh &mesh, FemOptions *o) {
+PetscErrorCode readFemOptions(const Mesh &mesh, bool degenerateDynamicStart, FemOptions *o) {
   PetscBool set = PETSC_FALSE;
   PetscFunctionBeginUser;
   const bool planar = mesh.shape == energies::ElementShape::Planar;
   const bool cloth = mesh.shape == energies::ElementShape::Cloth;
   *o = FemOptions{};
-  PetscCall(readMaterials(mesh, &o->materials));
+  PetscCall(readMaterials(mesh, degenerateDynamicStart, &o->materials));
   PetscCall(readDynamics(planar ? 2 : 3, &o->dynamics));
   PetscCall(readBoundaryOptions(&o->boundary));
   bool anyFibers = false;

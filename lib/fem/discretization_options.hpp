@@ -48,7 +48,8 @@ struct FemOptions {
 };
 
 // Reads and checks every option above for the mesh's element shape (only those that apply are read, so a stray one
-// stays unused). Errors are one line naming the option. Collective.
-PetscErrorCode readFemOptions(const Mesh &mesh, FemOptions *o);
+// stays unused). `degenerateDynamicStart`: the run starts backward Euler from a scramble, invert or collapse state
+// (readMaterialOptions). Errors are one line naming the option. Collective.
+PetscErrorCode readFemOptions(const Mesh &mesh, bool degenerateDynamicStart, FemOptions *o);
 
 }  // namespace aries::fem

@@ -77,13 +77,22 @@ inline constexpr OptionDecl singularity =
                  "none: the raw closed-form I4/I6 (singular where alpha -> 0); mollifier: Eq. 33; barrier: Eq. 34 "
                  "added once per element")
         .byDefault("mollifier");
-inline constexpr OptionDecl mollifierEps =
-    realOption("-mollifier_eps", "X", "alpha threshold eps of Eq. 33 (blend on [eps, 3 eps])").byDefault("1e-3").above(0);
+// The cases of the band's defaults (core::OptionDecl::when; docs/options.md, "The scale-free band"): the paper's band
+// everywhere except where a 3D solid with anisotropic I4/I6 terms (energyHasAnisotropicStretchTerms) starts backward
+// Euler from a scramble, invert or collapse state, whose stretched inverted cells crawl towards I4's singular set
+// above the paper's band (bench/results/degenerate_starts_scale_free.md).
+inline constexpr const char *kDegenerateStartBand =
+    "backward Euler from a scramble, invert or collapse start, 3D solids with anisotropic I4/I6 terms";
+inline constexpr const char *kScaleFreeBand = "scale_free";
 inline constexpr OptionDecl mollifierMeasure =
     choiceOption("-mollifier_measure", "alpha|scale_free",
                  "what eps is measured in: alpha (Eq. 28, the paper) or alpha (I_C/C)^(-k/2), k = 3 (tets, cloth) or "
                  "1 (planar), equal to alpha at rest but independent of the stretch's scale (see below)")
-        .byDefault("alpha");
+        .byDefault("scale_free", kDegenerateStartBand, "alpha", nullptr);
+inline constexpr OptionDecl mollifierEps =
+    realOption("-mollifier_eps", "X", "threshold eps of Eq. 33 in -mollifier_measure's coordinate (blend on [eps, 3 eps])")
+        .byDefault("0.3", kScaleFreeBand, "1e-3", nullptr)
+        .above(0);
 inline constexpr OptionDecl mollifierProxy =
     realOption("-mollifier_proxy", "X", "the constant proxy g = c of Eq. 33 (scaled by tr D for a fiber tensor D)")
         .byDefault("0");

@@ -148,6 +148,31 @@ PetscErrorCode readModuli(const char *prefix, bool cloth, const energies::Materi
   PetscFunctionReturn(0);
 }
 
+// -mollifier_measure and -mollifier_eps, whose defaults depend on the run's start and the energy (fem_options.hpp:
+// kDegenerateStartBand, kScaleFreeBand). A region inherits the global material's value where the user gave the global
+// option (which the global material then read) and otherwise takes the default of its own case: under a degenerate
+// dynamic start a fiber region in an iarap body gets the scale-free band, the body the paper's.
+PetscErrorCode readMollifierBand(const char *prefix, ElementShape shape, const energies::Material *base,
+                                 bool degenerateDynamicStart, energies::Material *m) {
+  PetscBool globalMeasure = PETSC_FALSE, globalEps = PETSC_FALSE;
+  PetscFunctionBeginUser;
+  const bool baseRead = base && energies::energyContainsStretchInvariant(base->kind) &&
+                        base->singularity.mode == energies::SingularityMode::Mollifier;
+  if (baseRead) {  // already read (and marked used) by the global material
+    PetscCall(PetscOptionsHasName(nullptr, nullptr, opt::mollifierMeasure.name, &globalMeasure));
+    PetscCall(PetscOptionsHasName(nullptr, nullptr, opt::mollifierEps.name, &globalEps));
+  }
+  const bool startBand = degenerateDynamicStart && shape == ElementShape::Tet &&
+                         energies::energyHasAnisotropicStretchTerms(m->kind);
+  kernels::MollifierParams &band = m->singularity.mollifier;
+  PetscCall(core::getChoice(opt::mollifierMeasure, &band.measure, nullptr,
+                            {prefix, startBand ? opt::kDegenerateStartBand : nullptr, globalMeasure == PETSC_TRUE}));
+  const bool scaleFree = band.measure == kernels::MollifierMeasure::ScaleFree;
+  PetscCall(core::get(opt::mollifierEps, &band.eps, nullptr,
+                      {prefix, scaleFree ? opt::kScaleFreeBand : nullptr, globalEps == PETSC_TRUE}));
+  PetscFunctionReturn(0);
+}
+
 }  // namespace
 
 PetscErrorCode materialUsesFibers(energies::EnergyKind kind, bool *uses) {
@@ -159,8 +184,8 @@ PetscErrorCode materialUsesFibers(energies::EnergyKind kind, bool *uses) {
 }
 
 PetscErrorCode readMaterialOptions(const char *prefix, ElementShape shape, const energies::Material *base,
-                                   const UniformCellData *baseCell, energies::Material *material,
-                                   UniformCellData *cell) {
+                                   const UniformCellData *baseCell, bool degenerateDynamicStart,
+                                   energies::Material *material, UniformCellData *cell) {
   energies::Material m = base ? *base : energies::Material{};
   UniformCellData c = baseCell ? *baseCell : UniformCellData{};
   const bool cloth = shape == ElementShape::Cloth;
@@ -227,9 +252,8 @@ PetscErrorCode readMaterialOptions(const char *prefix, ElementShape shape, const
   } else {
     m.singularity.mode = *energies::singularityFromName(core::choices(opt::singularity)[mode]);
     if (m.singularity.mode == energies::SingularityMode::Mollifier) {
-      PetscCall(core::get(opt::mollifierEps, &m.singularity.mollifier.eps, nullptr, at));
+      PetscCall(readMollifierBand(prefix, shape, base, degenerateDynamicStart, &m));
       PetscCall(core::get(opt::mollifierProxy, &m.singularity.mollifier.proxy, nullptr, at));
-      PetscCall(core::getChoice(opt::mollifierMeasure, &m.singularity.mollifier.measure, nullptr, at));
     } else if (m.singularity.mode == energies::SingularityMode::Barrier) {
       PetscCall(core::get(opt::barrierEps, &m.singularity.barrier.eps, nullptr, at));
       PetscCall(core::get(opt::barrierStiffness, &m.singularity.barrierStiffness, nullptr, at));

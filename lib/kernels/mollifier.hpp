@@ -20,10 +20,18 @@ namespace aries::kernels {
 enum class MollifierMeasure { Alpha, ScaleFree };
 
 struct MollifierParams {
-  double eps = 1e-3;    // alpha threshold (Eq. 33)
+  double eps = 1e-3;    // threshold in the measure's coordinate (Eq. 33; -mollifier_eps)
   double proxy = 0.0;   // g(F) = c (Eq. 33)
   MollifierMeasure measure = MollifierMeasure::Alpha;
 };
+
+// Whether a coordinate (mollifierCoordinate) lies in the blend band [eps, 3 eps] of Eq. 33; `edge` > 1 widens its top
+// (the console's count of cells held at the band, fem/diagnostics.cpp).
+inline bool inMollifierBand(double coordinate, const MollifierParams &p, double edge = 1.0) {
+  return coordinate >= p.eps && coordinate <= edge * 3.0 * p.eps;
+}
+// Above the band: Eq. 33 is the raw invariant there.
+inline bool aboveMollifierBand(double coordinate, const MollifierParams &p) { return coordinate > 3.0 * p.eps; }
 
 // The band's coordinate at F from alpha's value there (no derivatives).
 template <int R, int C>
@@ -70,7 +78,7 @@ inline Derivs<R * C> mollifiedStretch(const RootContext<R, C> &ctx, const Mat<C,
     return out;
   }
   Derivs<N> I = stretchInvariant<R, C>(ctx, D);
-  if (a > 3.0 * p.eps) return I;
+  if (aboveMollifierBand(a, p)) return I;
   const Smootherstep t = mollifierBlend(a, p.eps);
   const double diff = I.value - g;
   out.value = g + t.value * diff;

@@ -41,7 +41,7 @@ PetscErrorCode readSimulationOptions(SimulationOptions *o) {
   if (o->integrator == Integrator::Static) {  // applies to synthetic starts only (not rest, tutte or a restart)
     PetscBool detached = PETSC_TRUE, shapeFirst = PETSC_TRUE;
     PetscCall(core::get(opt::detachedStart, &detached, &set));
-    o->detachedStart = detached && o->initial != InitialState::Rest && o->initial != InitialState::Tutte;
+    o->detachedStart = detached && syntheticStart(o->initial);
     PetscCall(core::get(opt::detachedShapeFirst, &shapeFirst, &set));
     o->detachedShapeFirst = shapeFirst;
   }
@@ -87,7 +87,7 @@ PetscErrorCode Simulation::setup(fem::Discretization &disc, const SimulationOpti
   start.dt = dynamic ? opts.dt : 0.0;
   PetscCall(disc.setStep(start));
   PetscCall(applyInitialState());
-  syntheticStart_ = opts_.initial != InitialState::Rest && opts_.initial != InitialState::Tutte;
+  syntheticStart_ = syntheticStart(opts_.initial);
   // read where it applies: the materials are known from here on (advance)
   if (dynamic && syntheticStart_ && opts_.beulerShapeFirst > 0.0 && disc.anyFiberTerms())
     PetscCall(core::getChoice(opt::beulerStartProjection, &opts_.beulerStartProjection));

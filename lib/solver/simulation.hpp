@@ -49,6 +49,13 @@ struct SimulationOptions {
                                    // when it begins (prefix detached_, starting from these)
 };
 
+// A synthetic first state (scramble, invert, collapse): neither rest nor a Tutte map.
+inline bool syntheticStart(InitialState s) { return s != InitialState::Rest && s != InitialState::Tutte; }
+// Backward Euler from a synthetic start: the case of the mollifier band's defaults (fem::readFemOptions).
+inline bool degenerateDynamicStart(const SimulationOptions &o) {
+  return o.integrator == Integrator::BackwardEuler && syntheticStart(o.initial);
+}
+
 // The shape stage (shape_first.cpp): where the materials' stretch terms alone fix every cell's shape and some material
 // has a volume term, and the volume terms' energy at x exceeds `minRatio` times the other elastic energy (0: always),
 // solves from x with the volume terms suspended (x is restored if that solve fails), converged at a Newton step of

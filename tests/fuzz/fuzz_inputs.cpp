@@ -171,7 +171,7 @@ int main(int argc, char **argv) {
         const energies::ElementShape shape =
             std::array<energies::ElementShape, 3>{energies::ElementShape::Tet, energies::ElementShape::Planar,
                                                   energies::ElementShape::Cloth}[fz.pick(3)];
-        ierr = fem::readMaterialOptions(nullptr, shape, nullptr, nullptr, &m, &cell);
+        ierr = fem::readMaterialOptions(nullptr, shape, nullptr, nullptr, false, &m, &cell);
         if (acceptable(ierr)) {
           fem::BoundarySpec bc;
           const PetscErrorCode ierr2 = fem::readBoundaryOptions(&bc);

@@ -37,7 +37,7 @@ struct IarapEnergy : EnergyDefaults {
   static constexpr const char *summary =
       "mu |F - R|^2 + lambda/2 (J - 1)^2 as the sum of direction terms (Eq. 39); small strain = linear elasticity "
       "(E, nu)";
-  static constexpr bool stretch = true, volume = true;
+  static constexpr bool stretch = true, volume = true, isotropic = true;
   static std::string finalize(Material &m, int dim) { return isotropicWeight(m, dim); }
   template <int R, int C>
   static kernels::Derivs<R * C> evaluate(const EnergyInput<R, C> &in) {
