@@ -15,14 +15,15 @@ to nu 0's.
 usage: /usr/bin/python3 bench/degenerate_starts.py [--build build] [--energies A,B] [--meshes M,N] [--seeds 1,2,3]
                                                   [--ranks 1,2] [--nus 0,0.3,0.45] [--timeout S] [--no-static]
                                                   [--no-before] [--extra "OPTIONS"] [--variant "OPTIONS"] [--out NAME]
-                                                  [--start scramble|invert]
+                                                  [--start scramble|invert] [--no-dynamic]
   defaults: the energies iarap, fiber x, fiber oblique and ortho (also known: ortho equal, ortho mild: the ortho
   basis with equal moduli and with 1.2 : 1 : 0.8), every mesh, seed 1-3, 1 and 2 ranks, nu 0, 0.3 and 0.45, 1800 s
   per run, the static starts and the runs without the shape stage too (--no-static, --no-before skip them), no
   variant; --extra adds options to every dynamic run (e.g. "-snes_max_it 60 -on_failure continue": a stalling run then
   ends with the statistics of where it stalled instead of at --timeout; with the default -on_failure stop, a failed
   step's row is the last accepted state's); --out NAME writes bench/results/NAME.md (default degenerate_starts);
-  --start invert makes the dynamic runs start inside out (x = -X about the centroid) instead of scrambled. A
+  --start invert makes the dynamic runs start inside out (x = -X about the centroid) instead of scrambled;
+  --no-dynamic runs the static starts only. A
   run past --timeout is reported as not converged. Each run's step-1 least band coordinate is reported against the
   band of the singularity mollifier (Eq. 33: the coordinate in [eps, 3 eps], eps = -mollifier_eps; the coordinate is
   alpha, or its scale-free form where the run's console names that band, -mollifier_measure): a run that stalls with
@@ -185,6 +186,7 @@ def main():
     parser.add_argument("--timeout", type=float, default=1800)
     parser.add_argument("--extra", default="", help="options added to every dynamic run")
     parser.add_argument("--no-static", action="store_true")
+    parser.add_argument("--no-dynamic", action="store_true", help="only the static starts")
     parser.add_argument("--no-before", action="store_true", help="skip the runs without the shape stage")
     parser.add_argument("--variant", default="", help="solver options every dynamic run is repeated with")
     parser.add_argument("--start", default="scramble", choices=("scramble", "invert"),
@@ -230,7 +232,7 @@ def main():
                     energy_value=float(s1.get("energy", "nan")), min_alpha=float(s1.get("min_alpha", "nan")),
                     band=band, eps=eps, min_band=min_band, extra=" ".join(extra), stretches=stretches)
 
-    for name in meshes:
+    for name in [] if args.no_dynamic else meshes:
         mesh, tets, held = mesh_path(name)
         for energy in energies:
             for nu in nus:
@@ -341,6 +343,7 @@ def main():
             lines.append(f"| {r['mesh']} | {r['energy']} | {r['ok']} | {r['updates']} | {r['cg']} | {r['at_limit']} | "
                          f"{r['seconds']:.2f} | {w['ok']} | {w['updates']} | {w['cg']} | {w['at_limit']} | "
                          f"{w['seconds']:.2f} |")
+    static_from = len(lines)
     if static:
         lines += ["", "## Static starts (2 ranks, the detached start)", "",
                   f"Every static run converged: **{all(r['rc'] == 0 and step_converged(r['reason']) for r in static)}**"
@@ -351,6 +354,7 @@ def main():
     for r in static:
         lines.append(f"| {r['mesh']} | {r['energy']} | {r['start']} | {r['nu']} | {r['rc']} | {r['updates']} | "
                      f"{r['cg']} | {r['at_limit']} | {r['seconds']:.2f} | {r['reason']} |")
+    static_to = len(lines)
     failed = [r for r in results if not r["ok"]]
     lines += ["", "## Where the runs end (step 1's least band coordinate against the mollifier's band)", "",
               "The singularity mollifier (Eq. 33) blends the I4/I6 terms out where the band's coordinate is in "
@@ -387,6 +391,8 @@ def main():
                      f"{r['band']}, {r['eps']:g} | {band_ratio(r):.3g} | {stretches_text(r['stretches'])} | {relative_gap(r['stretches']):.3g} | "
                      f"{r['step2']} | {r['reason']} | "
                      f"{' '.join(extra_all + r['extra'].split())} |")
+    if args.no_dynamic:  # the header (its first three lines) and the static table
+        lines = lines[:3] + lines[static_from:static_to]
     text = "\n".join(lines) + "\n"
     os.makedirs(os.path.join(ROOT, "bench", "results"), exist_ok=True)
     with open(os.path.join(ROOT, "bench", "results", args.out + ".md"), "w") as f:

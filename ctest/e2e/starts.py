@@ -402,7 +402,9 @@ def case_mollifier_band_default():
     I4/I6 terms, per material (a fiber region in an iarap body: the region only), unless the option is given; and
     -mollifier_eps defaults to 0.3 on the scale-free coordinate, 1e-3 on alpha. Read from the console line that names a
     scale-free band (the box test mesh, the octopus test mesh with its fiber tentacles; each run one step of at most
-    2 Newton updates, continued on failure: only the setup is under test)."""
+    2 Newton updates, continued on failure: only the setup is under test). Those of them with fiber terms (whatever
+    their band; not ortho) get CG + point-block Jacobi by the preconditioner rule unless -pc_type or -dm_mat_type is
+    given, and say so."""
     tag = "mollifier_band_default_np%d" % ARGS.ranks
     box = mesh("box")
     octopus = mesh("octopus")
@@ -411,35 +413,42 @@ def case_mollifier_band_default():
     fiber = ["-energy", "fiber", "-gamma", "5e3", "-fiber", "1,0.5,0.2"]
     scramble = ["-initial", "scramble", "-scramble_seed", "2"]
     line = re.compile(r"aries: energy (\w+): the singularity mollifier's band is on the scale-free coordinate, eps (\S+) ")
-    cases = [  # (label, arguments, expected (energy, eps) of the console line or None)
-        ("beuler scramble, fiber", ["-dm_plex_filename", box] + beuler + scramble + fiber, ("fiber", "0.3")),
+    pbj = "aries: linear solver CG + point-block Jacobi (backward Euler from a degenerate start"
+    cases = [  # (label, arguments, expected (energy, eps) of the console line or None, point-block Jacobi expected)
+        ("beuler scramble, fiber", ["-dm_plex_filename", box] + beuler + scramble + fiber, ("fiber", "0.3"), True),
         ("beuler invert, ortho", ["-dm_plex_filename", box] + beuler + ["-initial", "invert", "-energy", "ortho",
                                                                        "-ortho_mu", "3846,7692,1923"],
-         ("ortho", "0.3")),
-        ("beuler scramble, iarap", ["-dm_plex_filename", box] + beuler + scramble + ["-energy", "iarap"], None),
-        ("beuler from rest, fiber", ["-dm_plex_filename", box] + beuler + fiber, None),
-        ("static scramble, fiber", ["-dm_plex_filename", box, "-bc_clamp", "bottom"] + scramble + fiber, None),
+         ("ortho", "0.3"), False),
+        ("beuler scramble, iarap", ["-dm_plex_filename", box] + beuler + scramble + ["-energy", "iarap"], None, False),
+        ("beuler from rest, fiber", ["-dm_plex_filename", box] + beuler + fiber, None, False),
+        ("static scramble, fiber", ["-dm_plex_filename", box, "-bc_clamp", "bottom"] + scramble + fiber, None, False),
         ("beuler scramble, fiber, the paper's band given", ["-dm_plex_filename", box] + beuler + scramble + fiber +
-         ["-mollifier_measure", "alpha"], None),
+         ["-mollifier_measure", "alpha"], None, True),
         ("beuler scramble, fiber, eps given", ["-dm_plex_filename", box] + beuler + scramble + fiber +
-         ["-mollifier_eps", "0.1"], ("fiber", "0.1")),
+         ["-mollifier_eps", "0.1"], ("fiber", "0.1"), True),
+        ("beuler scramble, fiber, -pc_type jacobi", ["-dm_plex_filename", box] + beuler + scramble + fiber +
+         ["-pc_type", "jacobi"], ("fiber", "0.3"), False),
         ("static scramble, fiber, scale-free given", ["-dm_plex_filename", box, "-bc_clamp", "bottom"] + scramble + fiber +
-         ["-mollifier_measure", "scale_free"], ("fiber", "0.3")),
+         ["-mollifier_measure", "scale_free"], ("fiber", "0.3"), False),
         ("beuler scramble, iarap body, fiber region", ["-dm_plex_filename", octopus, "-energy", "iarap", "-regions",
                                                        "tentacles", "-region_tentacles_energy", "fiber",
                                                        "-region_tentacles_gamma", "5e3", "-fiber_file",
                                                        octopus[:-len(".msh")] + ".fibers", "-bc_clamp", "top"] +
-         beuler + scramble, ("fiber", "0.3")),
+         beuler + scramble, ("fiber", "0.3"), True),
     ]
-    for k, (label, args, want) in enumerate(cases):
+    for k, (label, args, want, want_pbj) in enumerate(cases):
         log, _ = run(args + quick, tag="%s_%d" % (tag, k))
         m = line.search(log)
         got = (m.group(1), m.group(2)) if m else None
-        print("%s: %s" % (label, "scale-free band of %s, eps %s" % got if got else "the paper's band"))
+        got_pbj = pbj in log
+        print("%s: %s; %s" % (label, "scale-free band of %s, eps %s" % got if got else "the paper's band",
+                              "point-block Jacobi" if got_pbj else "no point-block Jacobi line"))
         if got != want:
             fail("%s: expected %s, the console says %s" % (
                 label, "the scale-free band of %s, eps %s" % want if want else "the paper's band",
                 "the scale-free band of %s, eps %s" % got if got else "the paper's band"))
+        if got_pbj != want_pbj:
+            fail("%s: expected %s point-block Jacobi line" % (label, "the" if want_pbj else "no"))
 
 
 def degenerate_starts(name, element_args, inside_out_mesh, scramble_mesh):

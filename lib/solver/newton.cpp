@@ -162,15 +162,26 @@ PetscErrorCode NewtonSolver::configureMultigrid() {
 // -multigrid_min_dofs free dofs gets GAMG (smoothed aggregation, the rigid near-nullspace, AIJ, rebuilt every second
 // Newton iteration); everything else the paper's CG + Jacobi, and so does a dynamic solve at any size: the inertia
 // term keeps Jacobi's iterations low and makes the Hessian too diagonally dominant for GAMG's aggregation. A user
-// -dm_mat_type other than AIJ keeps Jacobi (GAMG in PETSc 3.18 cannot coarsen BAIJ).
+// -dm_mat_type other than AIJ keeps Jacobi (GAMG in PETSc 3.18 cannot coarsen BAIJ). One exception to Jacobi: backward
+// Euler from a scramble, invert or collapse start of a 3D solid with fiber terms (NewtonOptions::fiberDegenerateStart)
+// gets point-block Jacobi (each vertex's 3 x 3 diagonal block inverted), without a user -dm_mat_type: there the
+// volume term's lambda cof F (x) cof F and the fibers' a (x) a couple a vertex's components far beyond the mass term
+// in the stretched cells; Jacobi's CG ended at -ksp_max_it in 48 solves of 27 fiber scrambles, point-block Jacobi's in
+// 3, at 0.65-0.97x the time (bench/results/degenerate_starts_pbjacobi.md; ortho lost there, 0.95-1.57x).
 PetscErrorCode NewtonSolver::chooseMultigrid(bool dynamic, bool otherMatType, const char *prefix, bool *multigrid) {
-  PetscBool pcSet;
+  PetscBool pcSet, matTypeSet;
   PetscInt freeDofs;
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsHasName(nullptr, prefix, "-pc_type", &pcSet));
+  PetscCall(PetscOptionsHasName(nullptr, nullptr, "-dm_mat_type", &matTypeSet));
   PetscCall(VecGetSize(ctx_.work, &freeDofs));
   const PetscInt minDofs = opts_.multigridMinDofs;
   *multigrid = !pcSet && !otherMatType && !dynamic && minDofs >= 0 && freeDofs >= minDofs;
+  pointBlockByRule_ = !pcSet && !matTypeSet && dynamic && opts_.fiberDegenerateStart;
+  if (pointBlockByRule_)
+    PetscCall(PetscPrintf(PetscObjectComm((PetscObject)ctx_.work),
+                          "aries: linear solver CG + point-block Jacobi (backward Euler from a degenerate start with "
+                          "fiber terms; -pc_type jacobi for the paper's CG + Jacobi)\n"));
   if (*multigrid)
     PetscCall(PetscPrintf(PetscObjectComm((PetscObject)ctx_.work),
                           "aries: linear solver CG + GAMG (a static solve of %d free DoFs, -multigrid_min_dofs %d; "
@@ -201,7 +212,7 @@ PetscErrorCode NewtonSolver::chooseMatrixType(DM dm, const NewtonSolver *base, b
             "option -pc_type gamg: PETSc 3.18's GAMG cannot coarsen -dm_mat_type %s matrices; give -dm_mat_type aij or "
             "leave -dm_mat_type out (GAMG then gets AIJ)",
             matType.c_str());
-  if (base) multigridByRule_ = base->multigridByRule_;
+  if (base) multigridByRule_ = base->multigridByRule_, pointBlockByRule_ = base->pointBlockByRule_;
   else PetscCall(chooseMultigrid(dynamic, set && !aij, prefix, &multigridByRule_));
   if (set) PetscCall(DMSetMatType(dm, matType.c_str()));
   else if (multigridByRule_ || gamgAsked) PetscCall(DMSetMatType(dm, MATAIJ));
@@ -350,6 +361,7 @@ PetscErrorCode NewtonSolver::setup(fem::Discretization &disc, const NewtonOption
   PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHBT));
   PetscCall(SNESSetConvergenceTest(snes, convergenceTest, this, nullptr));
   if (base) PetscCall(copySolverSettings(*base));
+  if (pointBlockByRule_) PetscCall(PCSetType(pc, PCPBJACOBI));
   if (multigridByRule_) {  // smoothed aggregation as PETSc's snes ex56 sets it up for 3D elasticity
     // Two changes to ex56's set-up, measured on the static cube compression (bench/scale_out.py, 197k DoFs, 2 ranks;
     // linear-solve seconds against Jacobi's 32.6): drop-threshold 0 instead of 0.05 (faster coarsening, 29.6 -> 24.3

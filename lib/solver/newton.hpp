@@ -125,6 +125,7 @@ class NewtonSolver {
   NewtonOptions opts_;
   NewtonContext ctx_;
   bool multigridByRule_ = false;  // GAMG chosen by chooseMultigrid (the detached start's solver inherits it)
+  bool pointBlockByRule_ = false;  // point-block Jacobi chosen by chooseMultigrid (degenerate starts with fibers)
   std::vector<std::unique_ptr<NewtonStep>> steps_;  // in the order they run
   ConvergenceCheck *check_ = nullptr;               // owned by steps_
   HessianFilter *filter_ = nullptr;                 // owned by steps_

@@ -52,6 +52,9 @@ struct NewtonOptions {
   bool inertiaGuess = false;       // -newton_inertia_guess (backward Euler)
   bool rigidNearNullspace = true;  // -near_nullspace rigid|none
   PetscInt multigridMinDofs = 200000;  // -multigrid_min_dofs: static solves this large use CG + GAMG (-1: never)
+  // Not an option: the run starts backward Euler from a scramble, invert or collapse state of a 3D solid with fiber
+  // terms (set by Simulation::setup); the preconditioner rule then picks point-block Jacobi (NewtonSolver).
+  bool fiberDegenerateStart = false;
 };
 
 // Reads the Newton options for a static (`dynamic` false) or backward-Euler run. `base` and `prefix`: the options of

@@ -77,7 +77,9 @@ PetscErrorCode Simulation::setup(fem::Discretization &disc, const SimulationOpti
   opts_ = opts;
   PetscCall(PetscObjectGetComm((PetscObject)disc.dm(), &comm));
   const bool dynamic = opts.integrator == Integrator::BackwardEuler;
-  PetscCall(newton_.setup(disc, opts.newton, dynamic, opts.dt));
+  opts_.newton.fiberDegenerateStart = degenerateDynamicStart(opts) && disc.anyFiberTerms() &&
+                                      disc.mesh().shape == energies::ElementShape::Tet;
+  PetscCall(newton_.setup(disc, opts_.newton, dynamic, opts.dt));
   PetscCall(DMCreateGlobalVector(disc.dm(), &x_));
   PetscCall(PetscObjectSetName((PetscObject)x_, "positions"));
   for (Vec *v : {&v_, &xPrev_, &vPrev_, &xTilde_}) PetscCall(VecDuplicate(x_, v));
