@@ -262,7 +262,8 @@ def case_dynamic_scramble_fiber_volume():
     updates with a cell held at the mollifier's band, where abs converged in 57 and 46 updates, 17.1k and 12.5k CG;
     on the 16.6k-tet camel abs took 68 updates and 77k CG against clamp's 126 and 511k with 42 solves at the limit,
     bench/results/degenerate_starts_fiber_filter.md; all with the paper's band, before the scale-free band became
-    this start's default: with it, on 1 rank, abs 46 updates and 7.8k CG, clamp 58 and 26.2k). A
+    this start's default: with it, on 1 rank, abs 46 updates and 7.8k CG, clamp 58 and 26.2k, both with CG + Jacobi,
+    before point-block Jacobi became this start's preconditioner). A
     checkpoint keeps the filter: restarted after step 1, step 2 filters by abs and takes the uninterrupted run's
     updates."""
     tag = "dynamic_scramble_fiber_volume_np%d" % ARGS.ranks
