@@ -127,7 +127,8 @@ class Discretization {
   // default of degenerate dynamic starts with anisotropic I4/I6 terms), or nullptr.
   const energies::Material *scaleFreeBandMaterial() const {
     for (const energies::Material &m : materials_)
-      if (energies::energyContainsStretchInvariant(m.kind) && m.singularity.mode == energies::SingularityMode::Mollifier &&
+      if (energies::energyContainsStretchInvariant(m.kind) &&
+          m.singularity.mode == energies::SingularityMode::Mollifier &&
           m.singularity.mollifier.measure == kernels::MollifierMeasure::ScaleFree)
         return &m;
     return nullptr;

@@ -326,9 +326,9 @@ PetscErrorCode RunOutput::record(const solver::Simulation &sim, const solver::St
   if (!rep.ok && rep.newton.mollifierBandCells > 0)  // why such solves stall: bench/results/degenerate_starts_band.md
     PetscCall(PetscPrintf(comm_,
                           "aries: step %d did not converge with %d cell%s held at the singularity mollifier's band "
-                          "at its last iterate (the band's coordinate, alpha or its scale-free form (-mollifier_measure), in "
-                          "[eps, %g x 3 eps]; the band of Eq. 33 is [eps, 3 eps], -mollifier_eps), where the I4/I6 "
-                          "terms' forces peak\n",
+                          "at its last iterate (the band's coordinate, alpha or its scale-free form "
+                          "(-mollifier_measure), in [eps, %g x 3 eps]; the band of Eq. 33 is [eps, 3 eps], "
+                          "-mollifier_eps), where the I4/I6 terms' forces peak\n",
                           (int)rep.step, (int)rep.newton.mollifierBandCells,
                           rep.newton.mollifierBandCells == 1 ? "" : "s", fem::Discretization::kMollifierBandEdge));
   if (rep.step % opts_.outputEvery == 0 || rep.stopping) PetscCall(writeState(sim, rep.step, rep.time));

@@ -168,21 +168,20 @@ PetscErrorCode NewtonSolver::configureMultigrid() {
 // volume term's lambda cof F (x) cof F and the fibers' a (x) a couple a vertex's components far beyond the mass term
 // in the stretched cells; Jacobi's CG ended at -ksp_max_it in 48 solves of 27 fiber scrambles, point-block Jacobi's in
 // 3, at 0.65-0.97x the time (bench/results/degenerate_starts_pbjacobi.md; ortho lost there, 0.95-1.57x).
-PetscErrorCode NewtonSolver::chooseMultigrid(bool dynamic, bool otherMatType, const char *prefix, bool *multigrid) {
-  PetscBool pcSet, matTypeSet;
+PetscErrorCode NewtonSolver::choosePreconditioner(bool dynamic, bool matTypeGiven, bool aij, const char *prefix) {
+  PetscBool pcSet;
   PetscInt freeDofs;
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsHasName(nullptr, prefix, "-pc_type", &pcSet));
-  PetscCall(PetscOptionsHasName(nullptr, nullptr, "-dm_mat_type", &matTypeSet));
   PetscCall(VecGetSize(ctx_.work, &freeDofs));
   const PetscInt minDofs = opts_.multigridMinDofs;
-  *multigrid = !pcSet && !otherMatType && !dynamic && minDofs >= 0 && freeDofs >= minDofs;
-  pointBlockByRule_ = !pcSet && !matTypeSet && dynamic && opts_.fiberDegenerateStart;
+  multigridByRule_ = !pcSet && !(matTypeGiven && !aij) && !dynamic && minDofs >= 0 && freeDofs >= minDofs;
+  pointBlockByRule_ = !pcSet && !matTypeGiven && dynamic && opts_.fiberDegenerateStart;
   if (pointBlockByRule_)
     PetscCall(PetscPrintf(PetscObjectComm((PetscObject)ctx_.work),
                           "aries: linear solver CG + point-block Jacobi (backward Euler from a degenerate start with "
                           "fiber terms; -pc_type jacobi for the paper's CG + Jacobi)\n"));
-  if (*multigrid)
+  if (multigridByRule_)
     PetscCall(PetscPrintf(PetscObjectComm((PetscObject)ctx_.work),
                           "aries: linear solver CG + GAMG (a static solve of %d free DoFs, -multigrid_min_dofs %d; "
                           "-pc_type jacobi for the paper's CG + Jacobi)\n",
@@ -213,7 +212,7 @@ PetscErrorCode NewtonSolver::chooseMatrixType(DM dm, const NewtonSolver *base, b
             "leave -dm_mat_type out (GAMG then gets AIJ)",
             matType.c_str());
   if (base) multigridByRule_ = base->multigridByRule_, pointBlockByRule_ = base->pointBlockByRule_;
-  else PetscCall(chooseMultigrid(dynamic, set && !aij, prefix, &multigridByRule_));
+  else PetscCall(choosePreconditioner(dynamic, set, aij, prefix));
   if (set) PetscCall(DMSetMatType(dm, matType.c_str()));
   else if (multigridByRule_ || gamgAsked) PetscCall(DMSetMatType(dm, MATAIJ));
   PetscFunctionReturn(0);

@@ -1,5 +1,5 @@
 // Projected Newton on the total potential with PETSc SNES (newtonls), KSP CG + Jacobi by default (CG + GAMG for a
-// large static solve, chooseMultigrid).
+// large static solve, CG + point-block Jacobi for a dynamic degenerate start with fibers: choosePreconditioner).
 //
 //  * Model: the energy is the SNES objective (line searches work on it), its gradient the residual, the assembled
 //    eigenvalue-filtered Hessian the Jacobian (DMSNES local callbacks; Dirichlet values filled by the boundary
@@ -99,7 +99,7 @@ class NewtonSolver {
   PetscErrorCode attachNearNullSpace();
   PetscErrorCode configureMultigrid();
   // The preconditioner rule (-pc_type not given): GAMG for a large static solve, else Jacobi.
-  PetscErrorCode chooseMultigrid(bool dynamic, bool otherMatType, const char *prefix, bool *multigrid);
+  PetscErrorCode choosePreconditioner(bool dynamic, bool matTypeGiven, bool aij, const char *prefix);
   PetscErrorCode chooseMatrixType(DM dm, const NewtonSolver *base, bool dynamic, const char *prefix);
   PetscErrorCode inertiaGuess(Mat H);  // initial guess of the linear solve
   PetscErrorCode finishUpdate(Vec xNew);  // after an update: its record and every step's finishUpdate
@@ -124,8 +124,10 @@ class NewtonSolver {
 
   NewtonOptions opts_;
   NewtonContext ctx_;
-  bool multigridByRule_ = false;  // GAMG chosen by chooseMultigrid (the detached start's solver inherits it)
-  bool pointBlockByRule_ = false;  // point-block Jacobi chosen by chooseMultigrid (degenerate starts with fibers)
+  // The preconditioner rule's choices (choosePreconditioner; the detached start's solver inherits them): GAMG for large
+  // static solves, point-block Jacobi for dynamic degenerate starts with fibers.
+  bool multigridByRule_ = false;
+  bool pointBlockByRule_ = false;
   std::vector<std::unique_ptr<NewtonStep>> steps_;  // in the order they run
   ConvergenceCheck *check_ = nullptr;               // owned by steps_
   HessianFilter *filter_ = nullptr;                 // owned by steps_
