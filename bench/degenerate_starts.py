@@ -36,6 +36,7 @@ usage: /usr/bin/python3 bench/degenerate_starts.py [--build build] [--energies A
 import argparse
 import csv
 import datetime
+import itertools
 import json
 import math
 import os
@@ -254,16 +255,16 @@ def main():
     static = []
     for name in [] if args.no_static else meshes:
         mesh, tets, held = mesh_path(name)
-        for energy, start, nu in ((e, s, n) for e in energies for s in ("scramble", "invert") for n in ("0.3", "0.45")):
-                a = ["-dm_plex_filename", mesh, "-E", "1e4", "-nu", nu, "-integrator", "static", "-steps", "1",
-                     "-initial", start, "-bc_box", held] + ENERGIES[energy]
-                rc, rows, wall, err, _ = run(args.build, 2, a, os.path.join(work, "stats.csv"), args.timeout)
-                s1 = rows[0] if rows else {}
-                static.append(dict(mesh=name, tets=tets, energy=energy, start=start, nu=nu, rc=rc,
-                                   updates=int(s1.get("newton_its", -1)), cg=int(s1.get("ksp_its", -1)),
-                                   at_limit=int(s1.get("ksp_at_limit", -1)), seconds=float(s1.get("wall_s", "nan")),
-                                   reason=s1.get("reason", str(err))))
-                print(json.dumps(static[-1]), flush=True)
+        for energy, start, nu in itertools.product(energies, ("scramble", "invert"), ("0.3", "0.45")):
+            a = ["-dm_plex_filename", mesh, "-E", "1e4", "-nu", nu, "-integrator", "static", "-steps", "1",
+                 "-initial", start, "-bc_box", held] + ENERGIES[energy]
+            rc, rows, wall, err, _ = run(args.build, 2, a, os.path.join(work, "stats.csv"), args.timeout)
+            s1 = rows[0] if rows else {}
+            static.append(dict(mesh=name, tets=tets, energy=energy, start=start, nu=nu, rc=rc,
+                               updates=int(s1.get("newton_its", -1)), cg=int(s1.get("ksp_its", -1)),
+                               at_limit=int(s1.get("ksp_at_limit", -1)), seconds=float(s1.get("wall_s", "nan")),
+                               reason=s1.get("reason", str(err))))
+            print(json.dumps(static[-1]), flush=True)
 
     main_runs = [r for r in results if not r["extra"]]
     variant_runs = [r for r in results if r.get("variant")]
