@@ -405,7 +405,7 @@ def case_mollifier_band_default():
     scale-free band (the box test mesh, the octopus test mesh with its fiber tentacles; each run one step of at most
     2 Newton updates, continued on failure: only the setup is under test). Those of them with fiber terms (whatever
     their band; not ortho) get CG + point-block Jacobi by the preconditioner rule unless -pc_type or -dm_mat_type is
-    given, and say so."""
+    given, and inexact Newton (-newton_forcing 0.01) unless -newton_forcing is given, and say so."""
     tag = "mollifier_band_default_np%d" % ARGS.ranks
     box = mesh("box")
     octopus = mesh("octopus")
@@ -415,7 +415,11 @@ def case_mollifier_band_default():
     scramble = ["-initial", "scramble", "-scramble_seed", "2"]
     line = re.compile(r"aries: energy (\w+): the singularity mollifier's band is on the scale-free coordinate, eps (\S+) ")
     pbj = "aries: linear solver CG + point-block Jacobi (backward Euler from a degenerate start"
-    cases = [  # (label, arguments, expected (energy, eps) of the console line or None, point-block Jacobi expected)
+    forcing = "aries: inexact Newton, -newton_forcing 0.01 (backward Euler from a degenerate start with fiber terms"
+    # (label, arguments, expected (energy, eps) of the console line or None, point-block Jacobi expected); the
+    # forcing line is expected where point-block Jacobi is, and also with -pc_type given (the last item: its cases)
+    forcing_too = ("beuler scramble, fiber, -pc_type jacobi",)
+    cases = [
         ("beuler scramble, fiber", ["-dm_plex_filename", box] + beuler + scramble + fiber, ("fiber", "0.3"), True),
         ("beuler invert, ortho", ["-dm_plex_filename", box] + beuler + ["-initial", "invert", "-energy", "ortho",
                                                                        "-ortho_mu", "3846,7692,1923"],
@@ -429,6 +433,8 @@ def case_mollifier_band_default():
          ["-mollifier_eps", "0.1"], ("fiber", "0.1"), True),
         ("beuler scramble, fiber, -pc_type jacobi", ["-dm_plex_filename", box] + beuler + scramble + fiber +
          ["-pc_type", "jacobi"], ("fiber", "0.3"), False),
+        ("beuler scramble, fiber, -newton_forcing given", ["-dm_plex_filename", box] + beuler + scramble + fiber +
+         ["-newton_forcing", "0"], ("fiber", "0.3"), True),
         ("static scramble, fiber, scale-free given", ["-dm_plex_filename", box, "-bc_clamp", "bottom"] + scramble + fiber +
          ["-mollifier_measure", "scale_free"], ("fiber", "0.3"), False),
         ("beuler scramble, iarap body, fiber region", ["-dm_plex_filename", octopus, "-energy", "iarap", "-regions",
@@ -442,14 +448,19 @@ def case_mollifier_band_default():
         m = line.search(log)
         got = (m.group(1), m.group(2)) if m else None
         got_pbj = pbj in log
-        print("%s: %s; %s" % (label, "scale-free band of %s, eps %s" % got if got else "the paper's band",
-                              "point-block Jacobi" if got_pbj else "no point-block Jacobi line"))
+        got_forcing = forcing in log
+        want_forcing = (want_pbj or label in forcing_too) and "-newton_forcing" not in args
+        print("%s: %s; %s; %s" % (label, "scale-free band of %s, eps %s" % got if got else "the paper's band",
+                                  "point-block Jacobi" if got_pbj else "no point-block Jacobi line",
+                                  "inexact Newton" if got_forcing else "no forcing line"))
         if got != want:
             fail("%s: expected %s, the console says %s" % (
                 label, "the scale-free band of %s, eps %s" % want if want else "the paper's band",
                 "the scale-free band of %s, eps %s" % got if got else "the paper's band"))
         if got_pbj != want_pbj:
             fail("%s: expected %s point-block Jacobi line" % (label, "the" if want_pbj else "no"))
+        if got_forcing != want_forcing:
+            fail("%s: expected %s -newton_forcing 0.01 line" % (label, "the" if want_forcing else "no"))
 
 
 def degenerate_starts(name, element_args, inside_out_mesh, scramble_mesh):

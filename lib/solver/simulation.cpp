@@ -79,6 +79,16 @@ PetscErrorCode Simulation::setup(fem::Discretization &disc, const SimulationOpti
   const bool dynamic = opts.integrator == Integrator::BackwardEuler;
   opts_.newton.fiberDegenerateStart = degenerateDynamicStart(opts) && disc.anyFiberTerms() &&
                                       disc.mesh().shape == energies::ElementShape::Tet;
+  // known only now that the materials are: the case of -newton_forcing's default (kFiberDegenerateStart)
+  if (opts_.newton.fiberDegenerateStart) {
+    PetscBool forcingGiven = PETSC_FALSE;
+    PetscCall(core::get(opt::newtonForcing, &opts_.newton.convergence.forcing, &forcingGiven,
+                        {nullptr, opt::kFiberDegenerateStart}));
+    if (!forcingGiven)
+      PetscCall(PetscPrintf(comm, "aries: inexact Newton, -newton_forcing %g (backward Euler from a degenerate start "
+                                  "with fiber terms; -newton_forcing 0 solves every direction to -ksp_rtol)\n",
+                            opts_.newton.convergence.forcing));
+  }
   PetscCall(newton_.setup(disc, opts_.newton, dynamic, opts.dt));
   PetscCall(DMCreateGlobalVector(disc.dm(), &x_));
   PetscCall(PetscObjectSetName((PetscObject)x_, "positions"));

@@ -169,11 +169,17 @@ inline constexpr OptionDecl newtonRotation =
         .byDefault("3", "static", "-1", "beuler")
         .atLeast(-1)
         .atMost(6);
+// The case of -newton_forcing's default (docs/options.md, "Inexact solves"): backward Euler from a degenerate start
+// with fiber terms (NewtonOptions::fiberDegenerateStart), where solves to -ksp_rtol of directions far from the
+// solution ended at -ksp_max_it (3 of 18 fiber scrambles at seed 1) and loose ones cost 0.83-1.03x the time with a
+// tenth of the CG iterations and none at the limit (bench/results/degenerate_starts_fiber_forcing.md).
+inline constexpr const char *kFiberDegenerateStart =
+    "backward Euler from a scramble, invert or collapse start, 3D solids (tetrahedra) with fiber terms";
 inline constexpr OptionDecl newtonForcing =
     realOption("-newton_forcing", "eta",
                "inexact Newton: a linear solve may stop at relative residual eta while its step is still above 2x the "
                "tolerance; a certifying solve is always at -ksp_rtol (0: off)")
-        .byDefault("0")
+        .byDefault("0.01", kFiberDegenerateStart, "0", nullptr)
         .atLeast(0)
         .below(1);
 inline constexpr OptionDecl liftIncrements =
