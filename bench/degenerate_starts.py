@@ -23,15 +23,17 @@ usage: /usr/bin/python3 bench/degenerate_starts.py [--build build] [--energies A
   ends with the statistics of where it stalled instead of at --timeout; with the default -on_failure stop, a failed
   step's row is the last accepted state's); --out NAME writes bench/results/NAME.md (default degenerate_starts);
   --start invert makes the dynamic runs start inside out (x = -X about the centroid) instead of scrambled;
-  --no-dynamic runs the static starts only. A
+  --no-dynamic runs the static starts only; --runs FILE,... reports the runs recorded in earlier outputs of this
+  script (its per-run JSON lines) instead of running (several benches, e.g. one per rank count, in one report);
+  --work DIR: the runs' scratch folder (one per bench run at the same time). A
   run past --timeout is reported as not converged. Each run's step-1 least band coordinate is reported against the
   band of the singularity mollifier (Eq. 33: the coordinate in [eps, 3 eps], eps = -mollifier_eps; the coordinate is
   alpha, or its scale-free form where the run's console names that band, -mollifier_measure): a run that stalls with
   its least coordinate there is held by the band (see "Where the runs end" in the report), and the signed principal
   stretches of the cell with that coordinate, read from step 1's written state (-output_fields
   alpha,principal_stretches), with their relative gap (s2 + s3) / s2: how close the cell is to the singular set
-  s2 = -s3 of I4 (Sec. 4). The static starts (scramble and inside out, nu 0.3 and 0.45, 2 ranks) run every energy
-  of --energies.
+  s2 = -s3 of I4 (Sec. 4). The static starts (the scramble for every --seeds value and inside out, nu 0.3 and 0.45,
+  every --ranks value) run every energy of --energies.
 """
 import argparse
 import csv
@@ -193,6 +195,11 @@ def main():
     parser.add_argument("--start", default="scramble", choices=("scramble", "invert"),
                         help="the dynamic runs' -initial (invert: deterministic, so one seed)")
     parser.add_argument("--out", default="degenerate_starts")
+    parser.add_argument("--runs", default="",
+                        help="report the runs recorded in these files (comma-separated; the JSON lines this script "
+                             "prints per run, e.g. its saved output) instead of running")
+    parser.add_argument("--work", default=os.path.join(ROOT, "out", "bench", "degenerate_starts"),
+                        help="scratch folder of the runs' states and stats (one per concurrent bench)")
     args = parser.parse_args()
     meshes = args.meshes.split(",")
     seeds = [int(x) for x in args.seeds.split(",")]
@@ -208,7 +215,7 @@ def main():
         if nu not in NUS:
             sys.exit(f"degenerate_starts: error: --nus: unknown nu '{nu}' (known: {', '.join(NUS)})")
     extra_all = args.extra.split()
-    work = os.path.join(ROOT, "out", "bench", "degenerate_starts")
+    work = args.work
     os.makedirs(work, exist_ok=True)
     results, lines = [], []
     started = time.perf_counter()
@@ -233,7 +240,10 @@ def main():
                     energy_value=float(s1.get("energy", "nan")), min_alpha=float(s1.get("min_alpha", "nan")),
                     band=band, eps=eps, min_band=min_band, extra=" ".join(extra), stretches=stretches)
 
-    for name in [] if args.no_dynamic else meshes:
+    recorded = [json.loads(line) for path in filter(None, args.runs.split(",")) for line in open(path)
+                if line.startswith("{")]
+    results += [r for r in recorded if "start" not in r]  # the static runs' records name their start
+    for name in [] if args.no_dynamic or args.runs else meshes:
         mesh, tets, held = mesh_path(name)
         for energy in energies:
             for nu in nus:
@@ -252,25 +262,29 @@ def main():
             results.append(r)
             print(json.dumps(r), flush=True)
 
-    static = []
-    for name in [] if args.no_static else meshes:
+    static = [r for r in recorded if "start" in r]
+    for name in [] if args.no_static or args.runs else meshes:
         mesh, tets, held = mesh_path(name)
-        for energy, start, nu in itertools.product(energies, ("scramble", "invert"), ("0.3", "0.45")):
+        starts = [("scramble", seed) for seed in seeds] + [("invert", None)]  # inside out is deterministic
+        for energy, (start, seed), nu, ranks in itertools.product(energies, starts, ("0.3", "0.45"), ranks_list):
             a = ["-dm_plex_filename", mesh, "-E", "1e4", "-nu", nu, "-integrator", "static", "-steps", "1",
-                 "-initial", start, "-bc_box", held] + ENERGIES[energy]
-            rc, rows, wall, err, _ = run(args.build, 2, a, os.path.join(work, "stats.csv"), args.timeout)
+                 "-initial", start, "-bc_box", held] + ENERGIES[energy] + \
+                (["-scramble_seed", str(seed)] if seed is not None else [])
+            rc, rows, wall, err, _ = run(args.build, ranks, a, os.path.join(work, "stats.csv"), args.timeout)
             s1 = rows[0] if rows else {}
-            static.append(dict(mesh=name, tets=tets, energy=energy, start=start, nu=nu, rc=rc,
+            static.append(dict(mesh=name, tets=tets, energy=energy, start=start, seed=seed, ranks=ranks, nu=nu, rc=rc,
                                updates=int(s1.get("newton_its", -1)), cg=int(s1.get("ksp_its", -1)),
                                at_limit=int(s1.get("ksp_at_limit", -1)), seconds=float(s1.get("wall_s", "nan")),
-                               reason=s1.get("reason", str(err))))
+                               reason=s1.get("reason", str(err)), energy_value=float(s1.get("energy", "nan"))))
             print(json.dumps(static[-1]), flush=True)
 
+    source = (f"from the {len(recorded)} runs recorded in {args.runs} (one JSON line per run, written as it "
+              "finished)" if args.runs else f"{time.perf_counter() - started:.0f} s")
     main_runs = [r for r in results if not r["extra"]]
     variant_runs = [r for r in results if r.get("variant")]
     lines += [f"# Degenerate starts with a volume term", "",
               f"Generated by `bench/degenerate_starts.py {shlex.join(sys.argv[1:])}` on {os.cpu_count()} cores, "
-              f"{datetime.datetime.utcnow():%Y-%m-%d %H:%M} UTC, {time.perf_counter() - started:.0f} s. Dynamic "
+              f"{datetime.datetime.utcnow():%Y-%m-%d %H:%M} UTC, {source}. Dynamic "
               f"{'scramble' if args.start == 'scramble' else 'inside-out start (-initial invert)'}: backward Euler dt 1e-2, density 1000, gravity, E 1e4, 2 steps, the lowest tenth held; "
               "meshes " + ", ".join(f"{m} default" for m in meshes) + f"; seeds {seeds}; ranks {ranks_list}. "
               "Step 1 unless said.", "",
@@ -346,15 +360,38 @@ def main():
                          f"{w['seconds']:.2f} |")
     static_from = len(lines)
     if static:
-        lines += ["", "## Static starts (2 ranks, the detached start)", "",
-                  f"Every static run converged: **{all(r['rc'] == 0 and step_converged(r['reason']) for r in static)}**"
-                  f" ({sum(r['rc'] == 0 and step_converged(r['reason']) for r in static)} of {len(static)}); linear "
-                  f"solves at -ksp_max_it: **{sum(max(r['at_limit'], 0) for r in static)}**.", "",
-                  "| mesh | energy | start | nu | exit | updates | CG | at limit | seconds | reason |",
-                  "|---|---|---|---:|---:|---:|---:|---:|---:|---|"]
+        converged = [r for r in static if r["rc"] == 0 and step_converged(r["reason"])]
+        lines += ["", "## Static starts (the detached start)", "",
+                  f"Every static run converged: **{len(converged) == len(static)}** ({len(converged)} of "
+                  f"{len(static)}); linear solves at -ksp_max_it: **{sum(max(r['at_limit'], 0) for r in static)}**; "
+                  "ranks " + ", ".join(str(k) for k in sorted({r.get("ranks", 2) for r in static})) + ", the "
+                  "scrambles' seeds " + ", ".join(str(k) for k in sorted({r.get("seed") or 1 for r in static
+                                                                          if r["start"] == "scramble"})) +
+                  " (records without a seed or rank count: seed 1, 2 ranks).", ""]
+        pairs = [(a, b) for a in converged for b in converged if a.get("ranks", 2) == 1 and b.get("ranks", 2) == 2 and
+                 all(a.get(k) == b.get(k) for k in ("mesh", "energy", "start", "nu", "seed"))]
+        if pairs:
+            lines += [f"Largest relative difference of the converged elastic energy between 1 and 2 ranks: "
+                      f"{max(abs(a['energy_value'] - b['energy_value']) / abs(b['energy_value']) for a, b in pairs):.2e}"
+                      f" ({len(pairs)} pairs).", ""]
+        lines += ["| energy | start | nu | runs | converged | updates: median / max | CG: median | at limit | "
+                  "seconds: median / max |", "|---|---|---:|---:|---:|---|---:|---:|---|"]
+        for energy, start, nu in itertools.product(energies, ("scramble", "invert"), ("0.3", "0.45")):
+            rs = [r for r in static if (r["energy"], r["start"], r["nu"]) == (energy, start, nu)]
+            ok = [r for r in rs if r in converged]
+            if rs and ok:
+                lines.append(f"| {energy} | {start} | {nu} | {len(rs)} | {len(ok)} | "
+                             f"{statistics.median(r['updates'] for r in ok):.0f} / {max(r['updates'] for r in ok)} | "
+                             f"{statistics.median(r['cg'] for r in ok):.0f} | {sum(max(r['at_limit'], 0) for r in rs)} | "
+                             f"{statistics.median(r['seconds'] for r in ok):.2f} / {max(r['seconds'] for r in ok):.2f} |")
+            elif rs:
+                lines.append(f"| {energy} | {start} | {nu} | {len(rs)} | 0 | | | | |")
+        lines += ["", "| mesh | energy | start | seed | ranks | nu | exit | updates | CG | at limit | seconds | reason |",
+                  "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
     for r in static:
-        lines.append(f"| {r['mesh']} | {r['energy']} | {r['start']} | {r['nu']} | {r['rc']} | {r['updates']} | "
-                     f"{r['cg']} | {r['at_limit']} | {r['seconds']:.2f} | {r['reason']} |")
+        lines.append(f"| {r['mesh']} | {r['energy']} | {r['start']} | {r.get('seed') or '-'} | {r.get('ranks', 2)} | "
+                     f"{r['nu']} | {r['rc']} | {r['updates']} | {r['cg']} | {r['at_limit']} | {r['seconds']:.2f} | "
+                     f"{r['reason']} |")
     static_to = len(lines)
     failed = [r for r in results if not r["ok"]]
     lines += ["", "## Where the runs end (step 1's least band coordinate against the mollifier's band)", "",
@@ -395,7 +432,7 @@ def main():
     if args.no_dynamic:  # the header (its first two lines, the run's command) and the static table
         lines = lines[:2] + [f"Generated by `bench/degenerate_starts.py {shlex.join(sys.argv[1:])}` on "
                              f"{os.cpu_count()} cores, {datetime.datetime.utcnow():%Y-%m-%d %H:%M} UTC, "
-                             f"{time.perf_counter() - started:.0f} s: the static starts only (no dynamic runs)."] + \
+                             f"{source}: the static starts only (no dynamic runs)."] + \
             lines[static_from:static_to]
     text = "\n".join(lines) + "\n"
     os.makedirs(os.path.join(ROOT, "bench", "results"), exist_ok=True)
