@@ -360,16 +360,17 @@ def main():
                          f"{w['seconds']:.2f} |")
     static_from = len(lines)
     if static:
+        def seed_of(r):  # records without one: the default -scramble_seed 1 (inside out: none)
+            return r.get("seed") or (1 if r["start"] == "scramble" else None)
+
         converged = [r for r in static if r["rc"] == 0 and step_converged(r["reason"])]
         lines += ["", "## Static starts (the detached start)", "",
                   f"Every static run converged: **{len(converged) == len(static)}** ({len(converged)} of "
                   f"{len(static)}); linear solves at -ksp_max_it: **{sum(max(r['at_limit'], 0) for r in static)}**; "
                   "ranks " + ", ".join(str(k) for k in sorted({r.get("ranks", 2) for r in static})) + ", the "
-                  "scrambles' seeds " + ", ".join(str(k) for k in sorted({r.get("seed") or 1 for r in static
+                  "scrambles' seeds " + ", ".join(str(k) for k in sorted({seed_of(r) for r in static
                                                                           if r["start"] == "scramble"})) +
                   " (records without a seed or rank count: seed 1, 2 ranks).", ""]
-        def seed_of(r):  # records without one: the default -scramble_seed 1 (inside out: none)
-            return r.get("seed") or (1 if r["start"] == "scramble" else None)
         pairs = [(a, b) for a in converged for b in converged if a.get("ranks", 2) == 1 and b.get("ranks", 2) == 2 and
                  all(a.get(k) == b.get(k) for k in ("mesh", "energy", "start", "nu")) and seed_of(a) == seed_of(b)]
         energies_of = [(a, b) for a, b in pairs if "energy_value" in a and "energy_value" in b]

@@ -417,7 +417,8 @@ def case_mollifier_band_default():
     pbj = "aries: linear solver CG + point-block Jacobi (backward Euler from a degenerate start"
     forcing = "aries: inexact Newton, -newton_forcing 0.01 (backward Euler from a degenerate start with fiber terms"
     # (label, arguments, expected (energy, eps) of the console line or None, point-block Jacobi expected); the
-    # forcing line is expected where point-block Jacobi is, and also with -pc_type given (the last item: its cases)
+    # forcing line is expected where point-block Jacobi is (unless -newton_forcing is given) and in the cases of
+    # forcing_too, where -pc_type turns point-block Jacobi off but not the forcing
     forcing_too = ("beuler scramble, fiber, -pc_type jacobi",)
     cases = [
         ("beuler scramble, fiber", ["-dm_plex_filename", box] + beuler + scramble + fiber, ("fiber", "0.3"), True),
