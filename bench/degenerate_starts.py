@@ -16,6 +16,7 @@ usage: /usr/bin/python3 bench/degenerate_starts.py [--build build] [--energies A
                                                   [--ranks 1,2] [--nus 0,0.3,0.45] [--timeout S] [--no-static]
                                                   [--no-before] [--extra "OPTIONS"] [--variant "OPTIONS"] [--out NAME]
                                                   [--start scramble|invert] [--no-dynamic] [--no-invert]
+                                                  [--static-extra "OPTIONS"]
   defaults: the energies iarap, fiber x, fiber oblique and ortho (also known: ortho equal, ortho mild: the ortho
   basis with equal moduli and with 1.2 : 1 : 0.8), every mesh, seed 1-3, 1 and 2 ranks, nu 0, 0.3 and 0.45, 1800 s
   per run, the static starts and the runs without the shape stage too (--no-static, --no-before skip them), no
@@ -23,7 +24,7 @@ usage: /usr/bin/python3 bench/degenerate_starts.py [--build build] [--energies A
   ends with the statistics of where it stalled instead of at --timeout; with the default -on_failure stop, a failed
   step's row is the last accepted state's); --out NAME writes bench/results/NAME.md (default degenerate_starts);
   --start invert makes the dynamic runs start inside out (x = -X about the centroid) instead of scrambled;
-  --no-dynamic runs the static starts only; --no-invert leaves the static inside-out start out (it has no seed: a
+  --no-dynamic runs the static starts only; --static-extra "OPTIONS" adds options to every static run; --no-invert leaves the static inside-out start out (it has no seed: a
   run over further seeds need not repeat it); --runs FILE,... reports the runs recorded in earlier outputs of this
   script (its per-run JSON lines) instead of running (several benches, e.g. one per rank count, in one report);
   --work DIR: the runs' scratch folder (one per bench run at the same time). A
@@ -194,6 +195,7 @@ def main():
     parser.add_argument("--extra", default="", help="options added to every dynamic run")
     parser.add_argument("--no-static", action="store_true")
     parser.add_argument("--no-invert", action="store_true", help="the static starts without inside out")
+    parser.add_argument("--static-extra", default="", help="options added to every static run")
     parser.add_argument("--no-dynamic", action="store_true", help="only the static starts")
     parser.add_argument("--no-before", action="store_true", help="skip the runs without the shape stage")
     parser.add_argument("--variant", default="", help="solver options every dynamic run is repeated with")
@@ -275,13 +277,14 @@ def main():
         for energy, (start, seed), nu, ranks in itertools.product(energies, starts, ("0.3", "0.45"), ranks_list):
             a = ["-dm_plex_filename", mesh, "-E", "1e4", "-nu", nu, "-integrator", "static", "-steps", "1",
                  "-initial", start, "-bc_box", held] + ENERGIES[energy] + \
-                (["-scramble_seed", str(seed)] if seed is not None else [])
+                (["-scramble_seed", str(seed)] if seed is not None else []) + args.static_extra.split()
             rc, rows, wall, err, _ = run(args.build, ranks, a, os.path.join(work, "stats.csv"), args.timeout)
             s1 = rows[0] if rows else {}
             static.append(dict(mesh=name, tets=tets, energy=energy, start=start, seed=seed, ranks=ranks, nu=nu, rc=rc,
                                updates=int(s1.get("newton_its", -1)), cg=int(s1.get("ksp_its", -1)),
                                at_limit=int(s1.get("ksp_at_limit", -1)), seconds=float(s1.get("wall_s", "nan")),
-                               reason=s1.get("reason", str(err)), energy_value=float(s1.get("energy", "nan"))))
+                               reason=s1.get("reason", str(err)), energy_value=float(s1.get("energy", "nan")),
+                               **({"options": args.static_extra} if args.static_extra else {})))
             print(json.dumps(static[-1]), flush=True)
 
     source = (f"from the {len(recorded)} runs recorded in {args.runs} (one JSON line per run, written as it "
