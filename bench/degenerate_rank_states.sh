@@ -33,7 +33,6 @@ random.Random(1).shuffle(cells)  # the element numbers keep their lines: only th
 open(sys.argv[2], "w").write("\n".join(lines[:a + 2] + cells + lines[a + 2 + n:]))
 PY
 fi
-labels=()
 for i in "${!runs[@]}"; do
   entry=${runs[$i]//MESH_H5/$ROOT/meshes/cache/${MESH}_default.h5}
   read -r -a words <<< "${entry//MESH_SHUFFLED/$SHUFFLED}"
@@ -45,9 +44,8 @@ for i in "${!runs[@]}"; do
     -E 1e4 -nu "$NU" -integrator beuler -dt 1e-2 -steps 1 -density 1000 -gravity 0,0,-9.81 -initial scramble \
     -scramble_seed "$SEED" -bc_box "$HELD" "$@" "${own[@]}" -output "$WORK/run$i" -stats "$WORK/run$i.csv" \
     > "$WORK/run$i.log" 2>&1 || { echo "$0: error: run '${runs[$i]}' failed, see $WORK/run$i.log" >&2; exit 1; }
-  labels+=("${runs[$i]}")
 done
-WORK=$WORK LABELS=$(printf '%s\n' "${labels[@]}") /usr/bin/python3 - <<'PY'
+WORK=$WORK LABELS=$(printf '%s\n' "${runs[@]}") /usr/bin/python3 - <<'PY'
 import csv, itertools, os
 import h5py, numpy as np
 w, labels = os.environ["WORK"], os.environ["LABELS"].split("\n")
