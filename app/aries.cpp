@@ -162,7 +162,7 @@ PetscErrorCode run(int *exitCode) {
   fem::Mesh mesh;
   PetscCall(fem::loadMesh(comm, &mesh));
   fem::FemOptions femOpts;
-  PetscCall(fem::readFemOptions(mesh, solver::degenerateDynamicStart(simOpts), &femOpts));
+  PetscCall(fem::readFemOptions(mesh, solver::syntheticStart(simOpts.initial), &femOpts));
   std::unique_ptr<fem::Discretization> disc;
   PetscCall(fem::Discretization::create(
       mesh, femOpts, simOpts.integrator == solver::Integrator::BackwardEuler ? simOpts.dt : 0.0, &disc));

@@ -27,6 +27,7 @@ usage: /usr/bin/python3 bench/degenerate_starts.py [--build build] [--energies A
   --no-dynamic runs the static starts only; --static-extra "OPTIONS" adds options to every static run; --no-invert leaves the static inside-out start out (it has no seed: a
   run over further seeds need not repeat it); --runs FILE,... reports the runs recorded in earlier outputs of this
   script (its per-run JSON lines) instead of running (several benches, e.g. one per rank count, in one report);
+  --against FILE,... pairs the static runs with earlier records of the same starts (e.g. without --static-extra);
   --work DIR: the runs' scratch folder (one per bench run at the same time). A
   run past --timeout is reported as not converged. Each run's step-1 least band coordinate is reported against the
   band of the singularity mollifier (Eq. 33: the coordinate in [eps, 3 eps], eps = -mollifier_eps; the coordinate is
@@ -210,6 +211,11 @@ def main():
     parser.add_argument("--runs", default="",
                         help="report the runs recorded in these files (comma-separated; the JSON lines this script "
                              "prints per run, e.g. its saved output) instead of running")
+    parser.add_argument("--against", default="",
+                        help="static records to compare with (comma-separated files as for --runs, e.g. the same "
+                             "starts without --static-extra): each static run of this report is paired with the record "
+                             "of the same mesh, energy, start, seed, ranks and nu, and the report gives per energy the "
+                             "pairs' converged and at-rest counts on both sides and their median ratios")
     parser.add_argument("--work", default=os.path.join(ROOT, "out", "bench", "degenerate_starts"),
                         help="scratch folder of the runs' states and stats (one per concurrent bench)")
     args = parser.parse_args()
@@ -275,6 +281,8 @@ def main():
             print(json.dumps(r), flush=True)
 
     static = [r for r in recorded if "start" in r]
+    against = [r for r in (json.loads(line) for path in filter(None, args.against.split(",")) for line in open(path)
+                           if line.startswith("{")) if "start" in r]
     for name in [] if args.no_static or args.runs else meshes:
         mesh, tets, held = mesh_path(name)
         starts = [("scramble", seed) for seed in seeds] + \
@@ -398,6 +406,37 @@ def main():
         if pairs:
             lines += [f"1 against 2 ranks, the same start ({len(pairs)} pairs, both converged): updates "
                       f"{statistics.median(a['updates'] / b['updates'] for a, b in pairs):.2f}x (median).", ""]
+        if against:
+            def key(r):
+                return r["mesh"], r["energy"], r["start"], seed_of(r), r.get("ranks", 2), r["nu"]
+
+            def at_rest(side):  # "N of M": of the M runs whose energy was recorded (older records have none)
+                valued = [r for r in side if "energy_value" in r]
+                rest = [r for r in valued if r in converged_both and abs(r["energy_value"]) <= REST_ENERGY]
+                return f"{len(rest)} of {len(valued)}"
+
+            reference = {key(r): r for r in against}
+            matched = [(r, reference[key(r)]) for r in static if key(r) in reference]
+            converged_both = [r for r in static + against if r["rc"] == 0 and step_converged(r["reason"])]
+            lines += [f"Against the records of `{args.against}`: {len(matched)} of these {len(static)} runs paired "
+                      "(the same mesh, energy, start, seed, ranks and nu); ratios are this report's / theirs, medians "
+                      "over the pairs where both converged.", "",
+                      "| energy | pairs | converged: here / there | at rest (of those with an energy): here / there | updates ratio | "
+                      "seconds ratio | at limit: here / there | seconds summed: here / there |",
+                      "|---|---:|---|---|---:|---:|---|---|"]
+            for energy in energies + ["all"]:
+                ps = [(a, b) for a, b in matched if energy in ("all", a["energy"])]
+                both = [(a, b) for a, b in ps if a in converged_both and b in converged_both]
+                if not ps:
+                    continue
+                ratio = (lambda k: f"{statistics.median(a[k] / b[k] for a, b in both):.2f}x") if both else \
+                    (lambda k: "-")
+                lines.append(f"| {energy} | {len(ps)} | {sum(a in converged_both for a, _ in ps)} / "
+                             f"{sum(b in converged_both for _, b in ps)} | {at_rest([a for a, _ in ps])} / "
+                             f"{at_rest([b for _, b in ps])} | {ratio('updates')} | {ratio('seconds')} | "
+                             f"{sum(max(a['at_limit'], 0) for a, _ in ps)} / {sum(max(b['at_limit'], 0) for _, b in ps)} | "
+                             f"{sum(a['seconds'] for a, _ in ps):.0f} / {sum(b['seconds'] for _, b in ps):.0f} |")
+            lines.append("")
         lines += ["| energy | start | nu | runs | converged | updates: median / max | CG: median | at limit | "
                   "seconds: median / max |", "|---|---|---:|---:|---:|---|---:|---:|---|"]
         for energy, start, nu in itertools.product(energies, ("scramble", "invert"), ("0.3", "0.45")):

@@ -399,8 +399,8 @@ def case_anisotropic_scramble_band():
 
 def case_mollifier_band_default():
     """Which runs get the scale-free mollifier band by default (-mollifier_measure, -mollifier_eps; docs/options.md,
-    The scale-free band): backward Euler from a scramble, invert or collapse start of a 3D solid with anisotropic
-    I4/I6 terms, per material (a fiber region in an iarap body: the region only), unless the option is given; and
+    The scale-free band): a scramble, invert or collapse start (static or backward Euler) of a 3D solid with
+    anisotropic I4/I6 terms, per material (a fiber region in an iarap body: the region only), unless the option is given; and
     -mollifier_eps defaults to 0.3 on the scale-free coordinate, 1e-3 on alpha. Read from the console line that names a
     scale-free band (the box test mesh, the octopus test mesh with its fiber tentacles; each run one step of at most
     2 Newton updates, continued on failure: only the setup is under test). Those of them with fiber terms (whatever
@@ -427,7 +427,11 @@ def case_mollifier_band_default():
          ("ortho", "0.3"), False),
         ("beuler scramble, iarap", ["-dm_plex_filename", box] + beuler + scramble + ["-energy", "iarap"], None, False),
         ("beuler from rest, fiber", ["-dm_plex_filename", box] + beuler + fiber, None, False),
-        ("static scramble, fiber", ["-dm_plex_filename", box, "-bc_clamp", "bottom"] + scramble + fiber, None, False),
+        ("static scramble, fiber", ["-dm_plex_filename", box, "-bc_clamp", "bottom"] + scramble + fiber, ("fiber", "0.3"),
+         False),
+        ("static invert, ortho", ["-dm_plex_filename", box, "-bc_clamp", "bottom", "-initial", "invert", "-energy",
+                                  "ortho", "-ortho_mu", "3846,7692,1923"], ("ortho", "0.3"), False),
+        ("static from rest, fiber", ["-dm_plex_filename", box, "-bc_clamp", "bottom"] + fiber, None, False),
         ("beuler scramble, fiber, the paper's band given", ["-dm_plex_filename", box] + beuler + scramble + fiber +
          ["-mollifier_measure", "alpha"], None, True),
         ("beuler scramble, fiber, eps given", ["-dm_plex_filename", box] + beuler + scramble + fiber +
@@ -436,8 +440,8 @@ def case_mollifier_band_default():
          ["-pc_type", "jacobi"], ("fiber", "0.3"), False),
         ("beuler scramble, fiber, -newton_forcing given", ["-dm_plex_filename", box] + beuler + scramble + fiber +
          ["-newton_forcing", "0"], ("fiber", "0.3"), True),
-        ("static scramble, fiber, scale-free given", ["-dm_plex_filename", box, "-bc_clamp", "bottom"] + scramble + fiber +
-         ["-mollifier_measure", "scale_free"], ("fiber", "0.3"), False),
+        ("static scramble, fiber, the paper's band given", ["-dm_plex_filename", box, "-bc_clamp", "bottom"] + scramble +
+         fiber + ["-mollifier_measure", "alpha"], None, False),
         ("beuler scramble, iarap body, fiber region", ["-dm_plex_filename", octopus, "-energy", "iarap", "-regions",
                                                        "tentacles", "-region_tentacles_energy", "fiber",
                                                        "-region_tentacles_gamma", "5e3", "-fiber_file",

@@ -14,10 +14,10 @@ using core::OptionDecl;
 namespace {
 
 // The global material, then one per -regions entry (starting from the global one: prefix region_<id>_).
-PetscErrorCode readMaterials(const Mesh &mesh, bool degenerateDynamicStart, std::vector<MaterialOptions> *materials) {
+PetscErrorCode readMaterials(const Mesh &mesh, bool degenerateStart, std::vector<MaterialOptions> *materials) {
   PetscFunctionBeginUser;
   MaterialOptions base;
-  PetscCall(readMaterialOptions(nullptr, mesh.shape, nullptr, nullptr, degenerateDynamicStart, &base.material,
+  PetscCall(readMaterialOptions(nullptr, mesh.shape, nullptr, nullptr, degenerateStart, &base.material,
                                 &base.cell));
   materials->push_back(base);
   std::vector<std::string> regionIds;
@@ -27,7 +27,7 @@ PetscErrorCode readMaterials(const Mesh &mesh, bool degenerateDynamicStart, std:
     const std::string prefix = "region_" + rid + "_";
     MaterialOptions m;
     m.region = rid;
-    PetscCall(readMaterialOptions(prefix.c_str(), mesh.shape, &base.material, &base.cell, degenerateDynamicStart,
+    PetscCall(readMaterialOptions(prefix.c_str(), mesh.shape, &base.material, &base.cell, degenerateStart,
                                   &m.material, &m.cell));
     materials->push_back(m);
   }
@@ -130,13 +130,13 @@ PetscErrorCode readLoads(int dim, bool volume, bool planar, std::vector<SurfaceL
 
 }  // namespace
 
-PetscErrorCode readFemOptions(const Mesh &mesh, bool degenerateDynamicStart, FemOptions *o) {
+PetscErrorCode readFemOptions(const Mesh &mesh, bool degenerateStart, FemOptions *o) {
   PetscBool set = PETSC_FALSE;
   PetscFunctionBeginUser;
   const bool planar = mesh.shape == energies::ElementShape::Planar;
   const bool cloth = mesh.shape == energies::ElementShape::Cloth;
   *o = FemOptions{};
-  PetscCall(readMaterials(mesh, degenerateDynamicStart, &o->materials));
+  PetscCall(readMaterials(mesh, degenerateStart, &o->materials));
   PetscCall(readDynamics(planar ? 2 : 3, &o->dynamics));
   PetscCall(readBoundaryOptions(&o->boundary));
   bool anyFibers = false;

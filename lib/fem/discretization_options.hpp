@@ -48,8 +48,8 @@ struct FemOptions {
 };
 
 // Reads and checks every option above for the mesh's element shape (only those that apply are read, so a stray one
-// stays unused). `degenerateDynamicStart`: the run starts backward Euler from a scramble, invert or collapse state
+// stays unused). `degenerateStart`: the run starts from a scramble, invert or collapse state, static or backward Euler
 // (readMaterialOptions). Errors are one line naming the option. Collective.
-PetscErrorCode readFemOptions(const Mesh &mesh, bool degenerateDynamicStart, FemOptions *o);
+PetscErrorCode readFemOptions(const Mesh &mesh, bool degenerateStart, FemOptions *o);
 
 }  // namespace aries::fem

@@ -78,11 +78,12 @@ inline constexpr OptionDecl singularity =
                  "added once per element")
         .byDefault("mollifier");
 // The cases of the band's defaults (core::OptionDecl::when; docs/options.md, "The scale-free band"): the paper's band
-// everywhere except where a 3D solid with anisotropic I4/I6 terms (energyHasAnisotropicStretchTerms) starts backward
-// Euler from a scramble, invert or collapse state, whose stretched inverted cells crawl towards I4's singular set
-// above the paper's band (bench/results/degenerate_starts_scale_free.md).
+// everywhere except where a 3D solid with anisotropic I4/I6 terms (energyHasAnisotropicStretchTerms) starts from a
+// scramble, invert or collapse state: backward Euler, whose stretched inverted cells crawl towards I4's singular set
+// above the paper's band (bench/results/degenerate_starts_scale_free.md), and static, where the paper's band left one
+// start at a tangled minimum (bench/results/degenerate_starts_static_*scale_free*.md).
 inline constexpr const char *kDegenerateStartBand =
-    "backward Euler from a scramble, invert or collapse start, 3D solids with anisotropic I4/I6 terms";
+    "a scramble, invert or collapse start, static or backward Euler, 3D solids with anisotropic I4/I6 terms";
 inline constexpr const char *kScaleFreeBand = "scale_free";
 inline constexpr OptionDecl mollifierMeasure =
     choiceOption("-mollifier_measure", "alpha|scale_free",

@@ -151,9 +151,9 @@ PetscErrorCode readModuli(const char *prefix, bool cloth, const energies::Materi
 // -mollifier_measure and -mollifier_eps, whose defaults depend on the run's start and the energy (fem_options.hpp:
 // kDegenerateStartBand, kScaleFreeBand). A region inherits the global material's value where the user gave the global
 // option (which the global material then read) and otherwise takes the default of its own case: under a degenerate
-// dynamic start a fiber region in an iarap body gets the scale-free band, the body the paper's.
+// start a fiber region in an iarap body gets the scale-free band, the body the paper's.
 PetscErrorCode readMollifierBand(const char *prefix, ElementShape shape, const energies::Material *base,
-                                 bool degenerateDynamicStart, energies::Material *m) {
+                                 bool degenerateStart, energies::Material *m) {
   PetscBool globalMeasure = PETSC_FALSE, globalEps = PETSC_FALSE;
   PetscFunctionBeginUser;
   const bool baseRead = base && energies::energyContainsStretchInvariant(base->kind) &&
@@ -162,7 +162,7 @@ PetscErrorCode readMollifierBand(const char *prefix, ElementShape shape, const e
     PetscCall(PetscOptionsHasName(nullptr, nullptr, opt::mollifierMeasure.name, &globalMeasure));
     PetscCall(PetscOptionsHasName(nullptr, nullptr, opt::mollifierEps.name, &globalEps));
   }
-  const bool startBand = degenerateDynamicStart && shape == ElementShape::Tet &&
+  const bool startBand = degenerateStart && shape == ElementShape::Tet &&
                          energies::energyHasAnisotropicStretchTerms(m->kind);
   kernels::MollifierParams &band = m->singularity.mollifier;
   PetscCall(core::getChoice(opt::mollifierMeasure, &band.measure, nullptr,
@@ -184,7 +184,7 @@ PetscErrorCode materialUsesFibers(energies::EnergyKind kind, bool *uses) {
 }
 
 PetscErrorCode readMaterialOptions(const char *prefix, ElementShape shape, const energies::Material *base,
-                                   const UniformCellData *baseCell, bool degenerateDynamicStart,
+                                   const UniformCellData *baseCell, bool degenerateStart,
                                    energies::Material *material, UniformCellData *cell) {
   energies::Material m = base ? *base : energies::Material{};
   UniformCellData c = baseCell ? *baseCell : UniformCellData{};
@@ -252,7 +252,7 @@ PetscErrorCode readMaterialOptions(const char *prefix, ElementShape shape, const
   } else {
     m.singularity.mode = *energies::singularityFromName(core::choices(opt::singularity)[mode]);
     if (m.singularity.mode == energies::SingularityMode::Mollifier) {
-      PetscCall(readMollifierBand(prefix, shape, base, degenerateDynamicStart, &m));
+      PetscCall(readMollifierBand(prefix, shape, base, degenerateStart, &m));
       PetscCall(core::get(opt::mollifierProxy, &m.singularity.mollifier.proxy, nullptr, at));
     } else if (m.singularity.mode == energies::SingularityMode::Barrier) {
       PetscCall(core::get(opt::barrierEps, &m.singularity.barrier.eps, nullptr, at));

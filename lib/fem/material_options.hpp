@@ -11,11 +11,11 @@ namespace aries::fem {
 using energies::UniformCellData;
 
 // Reads the material under `prefix` (nullptr for the global one, "region_<id>_" for a region), starting from
-// `base` where given, for elements of `shape`; validates and finalizes it. `degenerateDynamicStart`: the run starts
-// backward Euler from a scramble, invert or collapse state (it selects the mollifier band's defaults,
+// `base` where given, for elements of `shape`; validates and finalizes it. `degenerateStart`: the run starts
+// from a scramble, invert or collapse state, static or backward Euler (it selects the mollifier band's defaults,
 // fem_options.hpp). Errors are PETSC_ERR_USER_INPUT with the option name in the message.
 PetscErrorCode readMaterialOptions(const char *prefix, energies::ElementShape shape, const energies::Material *base,
-                                   const UniformCellData *baseCell, bool degenerateDynamicStart,
+                                   const UniformCellData *baseCell, bool degenerateStart,
                                    energies::Material *material, UniformCellData *cell);
 
 // Whether elements of this energy read fibers (-fiber, -fiber_file): the fiber energies, and shape_target when the

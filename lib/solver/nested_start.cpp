@@ -116,7 +116,7 @@ PetscErrorCode Simulation::setupCoarseLevels() {
   const std::string what = "option -coarse_mesh ('" + file + "' for '" + fine.filename + "')";
   PetscCall(readFilesAtFineCells(fine, what, &c.mesh));
   fem::FemOptions femOpts;
-  PetscCall(fem::readFemOptions(c.mesh, degenerateDynamicStart(opts_), &femOpts));
+  PetscCall(fem::readFemOptions(c.mesh, syntheticStart(opts_.initial), &femOpts));
   const bool dynamic = opts_.integrator == Integrator::BackwardEuler;
   PetscCall(fem::Discretization::create(c.mesh, femOpts, dynamic ? opts_.dt : 0.0, &c.disc));
   SimulationOptions coarseOpts = opts_;

@@ -49,9 +49,11 @@ struct SimulationOptions {
                                    // when it begins (prefix detached_, starting from these)
 };
 
-// A synthetic first state (scramble, invert, collapse): neither rest nor a Tutte map.
+// A synthetic first state (scramble, invert, collapse): neither rest nor a Tutte map; static or backward Euler, the case
+// of the mollifier band's defaults (fem::readFemOptions).
 inline bool syntheticStart(InitialState s) { return s != InitialState::Rest && s != InitialState::Tutte; }
-// Backward Euler from a synthetic start: the case of the mollifier band's defaults (fem::readFemOptions).
+// Backward Euler from a synthetic start: the case of -newton_forcing's and the preconditioner's defaults with fiber
+// terms (Simulation::setup, the preconditioner rule).
 inline bool degenerateDynamicStart(const SimulationOptions &o) {
   return o.integrator == Integrator::BackwardEuler && syntheticStart(o.initial);
 }
