@@ -259,7 +259,7 @@ def main():
                     band=band, eps=eps, min_band=min_band, extra=" ".join(extra), stretches=stretches)
 
     recorded = [json.loads(line) for path in filter(None, args.runs.split(",")) for line in open(path)
-                if line.startswith("{")]
+                if line.startswith('{"mesh"')]  # a saved console may hold other JSON (a mesh build's report)
     results += [r for r in recorded if "start" not in r]  # the static runs' records name their start
     for name in [] if args.no_dynamic or args.runs else meshes:
         mesh, tets, held = mesh_path(name)
@@ -282,7 +282,7 @@ def main():
 
     static = [r for r in recorded if "start" in r]
     against = [r for r in (json.loads(line) for path in filter(None, args.against.split(",")) for line in open(path)
-                           if line.startswith("{")) if "start" in r]
+                           if line.startswith('{"mesh"')) if "start" in r]
     for name in [] if args.no_static or args.runs else meshes:
         mesh, tets, held = mesh_path(name)
         starts = [("scramble", seed) for seed in seeds] + \

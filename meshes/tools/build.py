@@ -156,6 +156,13 @@ CATALOG = {
         "default": {"h": 0.025, "tets": 16638},
         "paper": {"alias": "default"},
     },
+    # a fourth such surface, for checks of a default on a shape none of its measurements used (bench/
+    # degenerate_starts.py --meshes bear)
+    "bear": {
+        "test": {"h": 0.08, "tets": 4454},
+        "default": {"h": 0.04, "tets": 31998},
+        "paper": {"alias": "default"},
+    },
     # verification: Lame's thick sphere under internal pressure (inner radius 0.5, outer 1), h = 0.2 ... 0.05
     "shell": {
         "coarse": {"h": 0.3, "tets": 960},  # P2's coarsest in the inflation (bench/verification.py)
@@ -230,6 +237,7 @@ PAPER = {  # the paper's meshes (Table 1: tets, Table 2: cloth triangles), for t
     "triceratops": "(not in the paper)",
     "hand": "(not in the paper)",
     "camel": "(not in the paper)",
+    "bear": "(not in the paper)",
     "cloth": "32,768",
     "disk": "(not in the paper)",
     "shell": "(verification: Lame's sphere)",
@@ -370,6 +378,7 @@ SOURCE_SHA256 = {
     "data/meshes/triceratops.off": "0fb444933884486a09eb4329a832f15ab792590f2a5bb75385d157e654ddbf5c",
     "data/meshes/hand.off": "cfcf1562726167ca704a091a8651bfd1d72f6eb96b4b2819321f0520721b35c7",
     "data/meshes/camel.off": "9ac960a9fee27e6fcc6baaa2340260834625084ee20f4a97194212404e650a22",
+    "data/meshes/bear.off": "058f6ce62635e5f86958adea9706a8dca3ebe4fae76a0d32b8318d107d40bda6",
     "data/meshes/lion-head.off": "cf159eeb12a3f3f345e57448693e9f0d115f3f6f38fd1d4519b336cede849289",
     "data/meshes/nefertiti.off": "d8b13239b988d0262fbc91e88da1d314eeb1b284c327a3fe76089c2b54886ccf",
 }
@@ -627,6 +636,7 @@ def build_bunny(p):
 TRICERATOPS_SCALE = 0.07
 HAND_SCALE = 1.0
 CAMEL_SCALE = 1.05
+BEAR_SCALE = 1.0
 
 
 def build_cgal_solid(member, scale, p):
@@ -651,6 +661,10 @@ def build_hand(p):
 
 def build_camel(p):
     return build_cgal_solid("data/meshes/camel.off", CAMEL_SCALE, p)
+
+
+def build_bear(p):
+    return build_cgal_solid("data/meshes/bear.off", BEAR_SCALE, p)
 
 
 def build_octopus(p):
@@ -1040,7 +1054,7 @@ def build_nefertiti(p):
 
 BUILDERS = {"box": build_box, "cylinder": build_cylinder, "cube": build_cube, "hexcube": build_hexcube, "armadillo": build_armadillo,
             "bunny": build_bunny, "octopus": build_octopus, "triceratops": build_triceratops,
-            "hand": build_hand, "camel": build_camel, "cloth": build_cloth, "cook": build_cook, "beam": build_beam,
+            "hand": build_hand, "camel": build_camel, "bear": build_bear, "cloth": build_cloth, "cook": build_cook, "beam": build_beam,
             "cook_slab": build_cook_slab, "cook_slab_full": build_cook_slab_full, "cook_hex": build_cook_hex,
             "tube": build_tube, "tube_hex": build_tube_hex, "shell_hex": build_shell_hex,
             "tube_curved": build_tube_curved, "shell_curved": build_shell_curved,
