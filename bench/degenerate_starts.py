@@ -184,6 +184,18 @@ def medians(runs, energy, nu, keys=("updates", "cg", "seconds")):
     return len(rs), ({k: statistics.median(r[k] for r in rs) for k in keys} if rs else None)
 
 
+def read_records(paths):
+    """The per-run JSON lines this script printed, from comma-separated files (a saved console may hold other JSON,
+    such as a mesh build's report: only lines that start as a record are read)."""
+    return [json.loads(line) for path in filter(None, paths.split(",")) for line in open(path)
+            if line.startswith('{"mesh"')]
+
+
+def static_converged(r):
+    """A static record's run exited 0 with a converged step."""
+    return r["rc"] == 0 and step_converged(r["reason"])
+
+
 def seed_of(r):
     """A static record's scramble seed: records without one ran the default -scramble_seed 1 (inside out: none)."""
     return r.get("seed") or (1 if r["start"] == "scramble" else None)
@@ -258,8 +270,7 @@ def main():
                     energy_value=float(s1.get("energy", "nan")), min_alpha=float(s1.get("min_alpha", "nan")),
                     band=band, eps=eps, min_band=min_band, extra=" ".join(extra), stretches=stretches)
 
-    recorded = [json.loads(line) for path in filter(None, args.runs.split(",")) for line in open(path)
-                if line.startswith('{"mesh"')]  # a saved console may hold other JSON (a mesh build's report)
+    recorded = read_records(args.runs)
     results += [r for r in recorded if "start" not in r]  # the static runs' records name their start
     for name in [] if args.no_dynamic or args.runs else meshes:
         mesh, tets, held = mesh_path(name)
@@ -281,8 +292,7 @@ def main():
             print(json.dumps(r), flush=True)
 
     static = [r for r in recorded if "start" in r]
-    against = [r for r in (json.loads(line) for path in filter(None, args.against.split(",")) for line in open(path)
-                           if line.startswith('{"mesh"')) if "start" in r]
+    against = [r for r in read_records(args.against) if "start" in r]
     for name in [] if args.no_static or args.runs else meshes:
         mesh, tets, held = mesh_path(name)
         starts = [("scramble", seed) for seed in seeds] + \
@@ -382,7 +392,7 @@ def main():
                          f"{w['seconds']:.2f} |")
     static_from = len(lines)
     if static:
-        converged = [r for r in static if r["rc"] == 0 and step_converged(r["reason"])]
+        converged = [r for r in static if static_converged(r)]
         lines += ["", "## Static starts (the detached start)", "",
                   f"Every static run converged: **{len(converged) == len(static)}** ({len(converged)} of "
                   f"{len(static)}); linear solves at -ksp_max_it: **{sum(max(r['at_limit'], 0) for r in static)}**; "
@@ -412,12 +422,11 @@ def main():
 
             def at_rest(side):  # "N of M": of the M runs whose energy was recorded (older records have none)
                 valued = [r for r in side if "energy_value" in r]
-                rest = [r for r in valued if r in converged_both and abs(r["energy_value"]) <= REST_ENERGY]
+                rest = [r for r in valued if static_converged(r) and abs(r["energy_value"]) <= REST_ENERGY]
                 return f"{len(rest)} of {len(valued)}"
 
             reference = {key(r): r for r in against}
             matched = [(r, reference[key(r)]) for r in static if key(r) in reference]
-            converged_both = [r for r in static + against if r["rc"] == 0 and step_converged(r["reason"])]
             lines += [f"Against the records of `{args.against}`: {len(matched)} of these {len(static)} runs paired "
                       "(the same mesh, energy, start, seed, ranks and nu); ratios are this report's / theirs, medians "
                       "over the pairs where both converged.", "",
@@ -426,13 +435,13 @@ def main():
                       "|---|---:|---|---|---:|---:|---|---|"]
             for energy in energies + ["all"]:
                 ps = [(a, b) for a, b in matched if energy in ("all", a["energy"])]
-                both = [(a, b) for a, b in ps if a in converged_both and b in converged_both]
+                both = [(a, b) for a, b in ps if static_converged(a) and static_converged(b)]
                 if not ps:
                     continue
                 ratio = (lambda k: f"{statistics.median(a[k] / b[k] for a, b in both):.2f}x") if both else \
                     (lambda k: "-")
-                lines.append(f"| {energy} | {len(ps)} | {sum(a in converged_both for a, _ in ps)} / "
-                             f"{sum(b in converged_both for _, b in ps)} | {at_rest([a for a, _ in ps])} / "
+                lines.append(f"| {energy} | {len(ps)} | {sum(static_converged(a) for a, _ in ps)} / "
+                             f"{sum(static_converged(b) for _, b in ps)} | {at_rest([a for a, _ in ps])} / "
                              f"{at_rest([b for _, b in ps])} | {ratio('updates')} | {ratio('seconds')} | "
                              f"{sum(max(a['at_limit'], 0) for a, _ in ps)} / {sum(max(b['at_limit'], 0) for _, b in ps)} | "
                              f"{sum(a['seconds'] for a, _ in ps):.0f} / {sum(b['seconds'] for _, b in ps):.0f} |")
