@@ -123,6 +123,12 @@ class Discretization {
       if (energies::energyUsesFibers(m.kind)) return true;
     return false;
   }
+  // Whether some material has a volume term lambda/2 (J - J0)^2 with lambda != 0 (nu > 0; energies::energyUsesVolumeTerm).
+  bool anyVolumeTerms() const {
+    for (const energies::Material &m : materials_)
+      if (energies::energyUsesVolumeTerm(m.kind) && m.lambda != 0.0) return true;
+    return false;
+  }
   // The first material whose mollifier band is on the scale-free coordinate (-mollifier_measure scale_free; the
   // default of degenerate dynamic starts with anisotropic I4/I6 terms), or nullptr.
   const energies::Material *scaleFreeBandMaterial() const {

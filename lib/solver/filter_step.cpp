@@ -92,6 +92,7 @@ PetscErrorCode HessianFilter::repairDirection(NewtonContext &ctx, Direction &d, 
   }
   PetscCall(KSPSetReusePreconditioner(ksp, PETSC_FALSE));
   PetscCall(KSPSetOperators(ksp, ctx.J, ctx.J));
+  PetscCall(chooseStart(ctx, ksp, F, Y));
   PetscCall(KSPSolve(ksp, F, Y));
   PetscCall(KSPGetConvergedReason(ksp, &reason));
   PetscCall(KSPGetIterationNumber(ksp, &its));
@@ -100,6 +101,34 @@ PetscErrorCode HessianFilter::repairDirection(NewtonContext &ctx, Direction &d, 
   d.record.linearIterations = its;
   d.record.filter = filterTag(filtered_);
   *changed = PETSC_TRUE;
+  PetscFunctionReturn(0);
+}
+
+// The filtered re-solve's start: of the failed unfiltered direction Y (most of the Newton step where CG met negative
+// curvature late; any length where the unfiltered system was near singular, and a start that far off wrecks the
+// filtered solve), the inertia-only step (-newton_inertia_guess) and zero, the one with the least value of the
+// filtered model q(p) = p^T H p / 2 - g^T p, which CG minimizes: the start nearest its solution in the H-norm.
+PetscErrorCode HessianFilter::chooseStart(NewtonContext &ctx, KSP ksp, Vec g, Vec Y) {
+  PetscScalar gY, yHy, gP, pHp;
+  PetscFunctionBeginUser;
+  PetscCall(MatMult(ctx.J, Y, ctx.work));
+  PetscCall(VecDot(Y, ctx.work, &yHy));
+  PetscCall(VecDot(g, Y, &gY));
+  const double qFailed = 0.5 * yHy - gY;
+  double qInertia = 0.0;  // zero's
+  Vec p = ctx.trialX;     // free here: no trial point is pending before the line search
+  if (ctx.inertiaGuess) {
+    PetscCall(ctx.startFromInertia(ctx.J, g, p));
+    PetscCall(MatMult(ctx.J, p, ctx.work));
+    PetscCall(VecDot(p, ctx.work, &pHp));
+    PetscCall(VecDot(g, p, &gP));
+    qInertia = 0.5 * pHp - gP;  // 0 where it was not usable (p = 0)
+  }
+  const bool keepFailed = qFailed < 0.0 && qFailed <= qInertia;  // false for NaN
+  const bool inertia = !keepFailed && qInertia < 0.0;
+  if (inertia) PetscCall(VecCopy(p, Y));
+  if (!keepFailed && !inertia) PetscCall(VecSet(Y, 0.0));
+  PetscCall(KSPSetInitialGuessNonzero(ksp, keepFailed || inertia ? PETSC_TRUE : PETSC_FALSE));
   PetscFunctionReturn(0);
 }
 

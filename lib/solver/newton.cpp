@@ -285,6 +285,7 @@ PetscErrorCode NewtonSolver::setup(fem::Discretization &disc, const NewtonOption
   MPI_Comm comm;
   PetscFunctionBeginUser;
   opts_ = options;
+  ctx_.inertiaGuess = options.inertiaGuess;
   ctx_.disc = &disc;
   ctx_.dynamic = dynamic;
   ctx_.psdHessian = options.filter.mode != EigenFilterMode::None;

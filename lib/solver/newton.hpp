@@ -101,7 +101,6 @@ class NewtonSolver {
   // The preconditioner rule (-pc_type not given): GAMG for a large static solve, else Jacobi.
   PetscErrorCode choosePreconditioner(bool dynamic, bool matTypeGiven, bool aij, const char *prefix);
   PetscErrorCode chooseMatrixType(DM dm, const NewtonSolver *base, bool dynamic, const char *prefix);
-  PetscErrorCode inertiaGuess(Mat H);  // initial guess of the linear solve
   PetscErrorCode finishUpdate(Vec xNew);  // after an update: its record and every step's finishUpdate
   // The lifted load increment (lifted_increment.cpp).
   PetscErrorCode setLoad(double load);

@@ -91,6 +91,28 @@ PetscErrorCode NewtonContext::stepBound(Vec g, PetscReal *bound) {
   PetscFunctionReturn(0);
 }
 
+// Backward Euler: the linear solve H p = g starts from the inertia-only step scaled optimally in the H-norm,
+// p0 = a M^-1 g with a = (g^T M^-1 g) / ((M^-1 g)^T H M^-1 g): never worse than a zero start in the H-norm, and exact
+// for a rigid translation (free fall), where CG then has nothing left to do. Where H does not make it usable (not
+// positive along it) the solve starts from zero.
+PetscErrorCode NewtonContext::startFromInertia(Mat H, Vec g, Vec p) {
+  KSP ksp;
+  PetscScalar gv, vHv;
+  PetscFunctionBeginUser;
+  PetscCall(SNESGetKSP(snes, &ksp));
+  PetscCall(VecPointwiseMult(p, g, invMass));
+  PetscCall(MatMult(H, p, work));
+  PetscCall(VecDot(g, p, &gv));
+  PetscCall(VecDot(p, work, &vHv));
+  const bool usable = vHv > 0.0 && gv > 0.0;
+  if (usable)
+    PetscCall(VecScale(p, gv / vHv));
+  else
+    PetscCall(VecSet(p, 0.0));
+  PetscCall(KSPSetInitialGuessNonzero(ksp, usable ? PETSC_TRUE : PETSC_FALSE));
+  PetscFunctionReturn(0);
+}
+
 void NewtonContext::declareConverged(Convergence how) {
   result.convergence = how;
   SNESSetConvergedReason(snes, SNES_CONVERGED_SNORM_RELATIVE);
@@ -119,28 +141,12 @@ PetscErrorCode NewtonSolver::jacobianLocal(DM, Vec xLocal, Mat, Mat P, void *ctx
   PetscCall(self->ctx_.beginAssembly());
   PetscCall(self->ctx_.disc->hessian(xLocal, P));
   PetscCall(self->ctx_.endAssembly());
-  if (self->opts_.inertiaGuess) PetscCall(self->inertiaGuess(P));
-  PetscFunctionReturn(0);
-}
-
-// Backward Euler: the linear solve H p = g starts from the inertia-only step scaled optimally in the H-norm,
-// p0 = a M^-1 g with a = (g^T M^-1 g) / ((M^-1 g)^T H M^-1 g): never worse than a zero start in the H-norm, and exact
-// for a rigid translation (free fall), where CG then has nothing left to do.
-PetscErrorCode NewtonSolver::inertiaGuess(Mat H) {
-  Vec g, p;
-  KSP ksp;
-  PetscScalar gv, vHv;
-  PetscFunctionBeginUser;
-  PetscCall(SNESGetFunction(ctx_.snes, &g, nullptr, nullptr));
-  PetscCall(SNESGetSolutionUpdate(ctx_.snes, &p));
-  PetscCall(SNESGetKSP(ctx_.snes, &ksp));
-  PetscCall(VecPointwiseMult(p, g, ctx_.invMass));
-  PetscCall(MatMult(H, p, ctx_.work));
-  PetscCall(VecDot(g, p, &gv));
-  PetscCall(VecDot(p, ctx_.work, &vHv));
-  const bool usable = vHv > 0.0 && gv > 0.0;
-  if (usable) PetscCall(VecScale(p, gv / vHv));
-  PetscCall(KSPSetInitialGuessNonzero(ksp, usable ? PETSC_TRUE : PETSC_FALSE));
+  if (self->ctx_.inertiaGuess) {
+    Vec g, p;
+    PetscCall(SNESGetFunction(self->ctx_.snes, &g, nullptr, nullptr));
+    PetscCall(SNESGetSolutionUpdate(self->ctx_.snes, &p));
+    PetscCall(self->ctx_.startFromInertia(P, g, p));
+  }
   PetscFunctionReturn(0);
 }
 

@@ -96,6 +96,7 @@ struct NewtonContext {
   bool dynamic = false;
   double dt = 0.0;
   double stepTol = 0.0;   // the converged step's inf-norm
+  bool inertiaGuess = false;  // -newton_inertia_guess: every linear solve starts from startFromInertia
   PetscInt iterationOffset = 0;  // updates of this solve before the SNES iteration (lifted ones): added to its count
   bool psdHessian = true; // the element Hessians are filtered to be PSD (the backward-Euler step bound needs it)
   PetscLogStage assemblyStage = -1;
@@ -119,6 +120,8 @@ struct NewtonContext {
   PetscErrorCode gram(Vec X, const std::vector<Vec> &directions, std::vector<double> *G);
   // Backward Euler's bound on |H^-1 g|_inf (infinite where none holds).
   PetscErrorCode stepBound(Vec g, PetscReal *bound);
+  // Backward Euler's start of the linear solve H p = g (-newton_inertia_guess): p <- the inertia-only step, or 0.
+  PetscErrorCode startFromInertia(Mat H, Vec g, Vec p);
   void declareConverged(Convergence how);
 };
 
@@ -267,6 +270,7 @@ class HessianFilter final : public NewtonStep {
 
  private:
   PetscErrorCode giveUp(NewtonContext &ctx);
+  PetscErrorCode chooseStart(NewtonContext &ctx, KSP ksp, Vec g, Vec Y);  // the filtered re-solve's start
   // The last solve assembled unfiltered systems and none of them was indefinite.
   bool lastSolveDefinite() const { return usedExact_ && !gaveUp_; }
   FilterOptions opts_;

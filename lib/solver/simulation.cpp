@@ -79,14 +79,17 @@ PetscErrorCode Simulation::setup(fem::Discretization &disc, const SimulationOpti
   const bool dynamic = opts.integrator == Integrator::BackwardEuler;
   opts_.newton.fiberDegenerateStart = degenerateDynamicStart(opts) && disc.anyFiberTerms() &&
                                       disc.mesh().shape == energies::ElementShape::Tet;
-  // known only now that the materials are: the case of -newton_forcing's default (kFiberDegenerateStart)
-  if (opts_.newton.fiberDegenerateStart) {
+  // known only now that the materials are: the case of -newton_forcing's default (kDegenerateStartForcing)
+  const bool forcingByRule = degenerateDynamicStart(opts) && disc.mesh().shape == energies::ElementShape::Tet &&
+                             (disc.anyFiberTerms() || disc.anyVolumeTerms());
+  if (forcingByRule) {
     PetscBool forcingGiven = PETSC_FALSE;
     PetscCall(core::get(opt::newtonForcing, &opts_.newton.convergence.forcing, &forcingGiven,
-                        {nullptr, opt::kFiberDegenerateStart}));
+                        {nullptr, opt::kDegenerateStartForcing}));
     if (!forcingGiven)
       PetscCall(PetscPrintf(comm, "aries: inexact Newton, -newton_forcing %g (backward Euler from a degenerate start "
-                                  "with fiber terms; -newton_forcing 0 solves every direction to -ksp_rtol)\n",
+                                  "with fiber terms or a volume term (nu > 0); -newton_forcing 0 solves every "
+                                  "direction to -ksp_rtol)\n",
                             opts_.newton.convergence.forcing));
   }
   PetscCall(newton_.setup(disc, opts_.newton, dynamic, opts.dt));

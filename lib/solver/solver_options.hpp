@@ -170,16 +170,19 @@ inline constexpr OptionDecl newtonRotation =
         .atLeast(-1)
         .atMost(6);
 // The case of -newton_forcing's default (docs/options.md, "Inexact solves"): backward Euler from a degenerate start
-// with fiber terms (NewtonOptions::fiberDegenerateStart), where solves to -ksp_rtol of directions far from the
-// solution ended at -ksp_max_it (3 of 18 fiber scrambles at seed 1) and loose ones cost 0.83-1.03x the time with a
-// tenth of the CG iterations and none at the limit (bench/results/degenerate_starts_fiber_forcing.md).
-inline constexpr const char *kFiberDegenerateStart =
-    "backward Euler from a scramble, invert or collapse start, 3D solids (tetrahedra) with fiber terms";
+// of a tet solid with fiber terms or a volume term (nu > 0), where solves to -ksp_rtol of directions far from the
+// solution ended at -ksp_max_it (3 of 18 fiber scrambles at seed 1; 2 iarap scrambles of the bear at nu 0.45) and
+// loose ones cost 0.83-1.03x the time (fiber) and 0.42-0.93x (iarap, nu 0.3 and 0.45) with a tenth to a fifth of the
+// CG iterations and none at the limit (bench/results/degenerate_starts_fiber_forcing.md, degenerate_starts_forcing.md,
+// degenerate_starts_bear_forcing.md). The paper's degenerate scenes (nu 0, no fiber terms) are not in the case.
+inline constexpr const char *kDegenerateStartForcing =
+    "backward Euler from a scramble, invert or collapse start, 3D solids (tetrahedra) with fiber terms or a volume "
+    "term (nu > 0)";
 inline constexpr OptionDecl newtonForcing =
     realOption("-newton_forcing", "eta",
                "inexact Newton: a linear solve may stop at relative residual eta while its step is still above 2x the "
                "tolerance; a certifying solve is always at -ksp_rtol (0: off)")
-        .byDefault("0.01", kFiberDegenerateStart, "0", nullptr)
+        .byDefault("0.01", kDegenerateStartForcing, "0", nullptr)
         .atLeast(0)
         .below(1);
 inline constexpr OptionDecl liftIncrements =
