@@ -77,12 +77,10 @@ PetscErrorCode Simulation::setup(fem::Discretization &disc, const SimulationOpti
   opts_ = opts;
   PetscCall(PetscObjectGetComm((PetscObject)disc.dm(), &comm));
   const bool dynamic = opts.integrator == Integrator::BackwardEuler;
-  opts_.newton.fiberDegenerateStart = degenerateDynamicStart(opts) && disc.anyFiberTerms() &&
-                                      disc.mesh().shape == energies::ElementShape::Tet;
+  const bool degenerateTetStart = degenerateDynamicStart(opts) && disc.mesh().shape == energies::ElementShape::Tet;
+  opts_.newton.fiberDegenerateStart = degenerateTetStart && disc.anyFiberTerms();
   // known only now that the materials are: the case of -newton_forcing's default (kDegenerateStartForcing)
-  const bool forcingByRule = degenerateDynamicStart(opts) && disc.mesh().shape == energies::ElementShape::Tet &&
-                             (disc.anyFiberTerms() || disc.anyVolumeTerms());
-  if (forcingByRule) {
+  if (degenerateTetStart && (disc.anyFiberTerms() || disc.anyVolumeTerms())) {
     PetscBool forcingGiven = PETSC_FALSE;
     PetscCall(core::get(opt::newtonForcing, &opts_.newton.convergence.forcing, &forcingGiven,
                         {nullptr, opt::kDegenerateStartForcing}));
