@@ -174,7 +174,8 @@ inline constexpr OptionDecl newtonRotation =
 // solution ended at -ksp_max_it (3 of 18 fiber scrambles at seed 1; 2 iarap scrambles of the bear at nu 0.45) and
 // loose ones cost 0.83-1.03x the time (fiber), 0.42-0.83x (iarap, nu 0.3 and 0.45) and 0.87-1.10x (ortho) with a
 // tenth to a third of the CG iterations and none at the limit (bench/results/degenerate_starts_fiber_forcing.md,
-// degenerate_starts_volume_forcing.md, degenerate_starts_bear_forcing.md). The paper's degenerate scenes (nu 0, no fiber terms) are not in the case.
+// degenerate_starts_volume_forcing.md, degenerate_starts_bear_forcing.md). The paper's degenerate scenes (nu 0, no
+// fiber terms) are not in the case.
 inline constexpr const char *kDegenerateStartForcing =
     "backward Euler from a scramble, invert or collapse start, 3D solids (tetrahedra) with fiber terms or a volume "
     "term (nu > 0)";
