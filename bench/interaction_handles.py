@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Why the Fig. 13 interaction takes more Newton updates per step on finer meshes: the cells at the handles' edges.
 
-usage: bench/interaction_handles.py [--steps K] [--meshes tets,tets_fine,hexmid,hex[:K]] [--out FILE.md]
+usage: bench/interaction_handles.py [--steps K] [--meshes tets,tets_fine,hexmid,hex[:K]] [--variants V,...]
+                                   [--out FILE.md]
 
 Runs options/bunny_interact.yml (two box handles pushed 0.06 into the cheeks over 100 steps, backward Euler, 200
 steps) on bunny meshes of several element types and sizes, 2 MPI ranks, each with a step's first Newton system
@@ -11,7 +12,10 @@ edge), the Newton updates and linear solves per step in three phases (the handle
 F, averaged over the cell's quadrature points) is below 0.25, how many of them lie within 2 h of a support box's
 boundary (the handles or the pinned base), and the worst cell (smallest J) with its energy density against the median.
 --steps K runs only the first K steps of each mesh, MESH:K those of one (the phases then cover fewer steps, and the
-table says how many). Each run
+table says how many). --variants picks the runs of each mesh (default: filtered start,exact start; also abs filter,
+adaptive filter: -psd_projection abs / adaptive in place of backward Euler's clamp; element filter: -psd_scope
+element, each element's whole Hessian clamped instead of each quadrature point's; no exact Hessian:
+-newton_exact_hessian false, every system filtered). Each run
 lives in out/interaction_handles/<mesh>/ with its stats, Newton history and output; a run whose directory holds the
 same command line and a stats row for every step asked for is read back, not run again. Use /usr/bin/python3.
 """
@@ -37,6 +41,7 @@ OPTIONS = os.path.join(ROOT, "options", "bunny_interact.yml")
 RANKS = 2
 OUTPUT_EVERY = 10
 CRUSHED_J = 0.25
+SLOW_UPDATES = 4  # a step of this many Newton updates or more is a slow one (the report's third table)
 NEAR_BOX_H = 2.0
 # label -> (mesh name, size, description)
 MESHES = {
@@ -46,8 +51,14 @@ MESHES = {
     "hex": ("bunny", "hex", "voxel hexahedra, edge 0.01 (the paper's size)"),
 }
 PHASES = [(1, 55), (56, 100), (101, 200)]
-# variant -> options: a step's first Newton system filtered (as before issue 45's measurement) or unfiltered
-VARIANTS = {"filtered start": ["-newton_exact_start", "false"], "exact start": ["-newton_exact_start", "true"]}
+# variant -> options: a step's first Newton system filtered (as before issue 45's measurement) or unfiltered (the
+# default), the Hessian filters (each with the default exact start; clamp per quadrature point, backward Euler's
+# default, is "exact start"; element: clamp of each element's whole Hessian), and projected Newton without the
+# unfiltered Hessian near the solution
+VARIANTS = {"filtered start": ["-newton_exact_start", "false"], "exact start": ["-newton_exact_start", "true"],
+            "abs filter": ["-psd_projection", "abs"], "adaptive filter": ["-psd_projection", "adaptive"],
+            "element filter": ["-psd_scope", "element"], "no exact Hessian": ["-newton_exact_hessian", "false"]}
+DEFAULT_VARIANTS = "filtered start,exact start"
 
 
 def read_boxes():
@@ -116,6 +127,29 @@ def crushed_cells(work, boxes):
     return h, len(topo), rows
 
 
+def slow_steps(work, stats):
+    """The steps of SLOW_UPDATES or more updates, from the Newton history: how many, how many began with an unfiltered
+    system that failed (CG met negative curvature or the direction did not descend; its row is not applied), their
+    line-search cuts and extrapolations, and how fast their full-length filtered steps shrink (the final correction
+    included; the median and the quartiles of the ratio of one's |step|_inf to the previous one's, within a step)."""
+    slow = {int(r["step"]) for r in stats if int(r["newton_its"]) >= SLOW_UPDATES}
+    by_step = {}
+    for r in scenes.read_stats(os.path.join(work, "history.csv"))[0]:
+        if int(r["step"]) in slow and r["level"] == "0":
+            by_step.setdefault(int(r["step"]), []).append(r)
+    failed_first = cuts = extrapolated = 0
+    ratios = []
+    for rows in by_step.values():
+        failed_first += rows[0]["filter"] == "none" and float(rows[0]["lambda"]) == 0.0 and len(rows) > 1 \
+            and rows[1]["iteration"] == "0"
+        cuts += sum(1 for r in rows if 0.0 < float(r["lambda"]) < 1.0)
+        extrapolated += sum(1 for r in rows if float(r["extrapolated"]) > 0.0)
+        full = [float(r["step_inf"]) for r in rows if r["filter"] != "none" and float(r["lambda"]) == 1.0]
+        ratios += [b / a for a, b in zip(full, full[1:]) if a > 0.0]
+    q = np.percentile(ratios, [25, 50, 75]) if ratios else None
+    return dict(count=len(slow), failed_first=failed_first, cuts=cuts, extrapolated=extrapolated, ratio=q)
+
+
 def phase_averages(stats):
     out = []
     for a, b in PHASES:
@@ -133,8 +167,13 @@ def main():
     p.add_argument("--steps", type=int, default=200)
     p.add_argument("--meshes", default=",".join(MESHES))
     p.add_argument("--build", default=os.path.join(ROOT, "build"))
+    p.add_argument("--variants", default=DEFAULT_VARIANTS)
     p.add_argument("--out", default=OUT)
     a = p.parse_args()
+    variants = a.variants.split(",")
+    for v in variants:
+        if v not in VARIANTS:
+            raise SystemExit("interaction_handles: unknown variant '%s' (known: %s)" % (v, ",".join(VARIANTS)))
     boxes = read_boxes()
     labels, steps = [], {}
     for item in a.meshes.split(","):
@@ -145,7 +184,7 @@ def main():
             raise SystemExit("interaction_handles: '%s': the steps after ':' must be 1..200" % item)
         labels.append(label)
         steps[label] = int(k) if k else a.steps
-    results = {(label, v): run(label, v, steps[label], a.build) for label in labels for v in VARIANTS}
+    results = {(label, v): run(label, v, steps[label], a.build) for label in labels for v in variants}
 
     lines = ["# The Fig. 13 interaction: Newton's work against the cells the handles crush", "",
              "Generated by `bench/interaction_handles.py%s` on %s at %s, %s; **do not edit by hand**. "
@@ -155,16 +194,18 @@ def main():
              "each phase. Crushed = cells whose J (det F averaged over the cell's points) is below %g; near a "
              "support = the cell's rest centroid within %g h of a support box's boundary (the handles and the "
              "pinned base); h = the mean rest edge of the mesh's cells."
-             % ((" --steps %d" % a.steps if a.steps != 200 else "") + " --meshes " + a.meshes,
+             % ((" --steps %d" % a.steps if a.steps != 200 else "") + " --meshes " + a.meshes
+                + (" --variants '%s'" % a.variants if a.variants != DEFAULT_VARIANTS else ""),
                 datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"), scenes.commit_line(),
                 scenes.machine_line(RANKS), CRUSHED_J, NEAR_BOX_H), "",
              "## Newton per step by phase", "",
-             "| mesh | cells | h | first system | steps 1-55: Newton / solves | 56-100 | 101-200 | all steps | "
+             "| mesh | cells | h | variant | steps 1-55: Newton / solves | 56-100 | 101-200 | all steps | "
              "s/step |", "|---|---:|---:|---|---|---|---|---|---:|"]
-    cells = {}
+    cells, slow = {}, {}
     for label in labels:
-        for v in VARIANTS:
+        for v in variants:
             stats = scenes.read_stats(os.path.join(results[label, v], "stats.csv"))[0]
+            slow[label, v] = slow_steps(results[label, v], stats)
             h, n, rows = crushed_cells(results[label, v], boxes)
             cells[label, v] = rows
             ph = ["%.2f / %.2f (%d)" % (x[1], x[2], x[0]) if x else "-" for x in phase_averages(stats)]
@@ -173,14 +214,33 @@ def main():
             lines.append("| %s | %d | %.4f | %s | %s | %s | %s | %s | %.2f |" % (
                 MESHES[label][2], n, h, v, ph[0], ph[1], ph[2], allp,
                 np.mean([float(r["wall_s"]) for r in stats])))
-    lines += ["", "(in brackets: the steps averaged; first system: a step's first Newton system filtered, or "
-              "unfiltered where the previous step's unfiltered systems were all positive definite, "
-              "`-newton_exact_start`)", "",
-              "## Crushed cells at the output steps (exact start)", "",
+    lines += ["", "(in brackets: the steps averaged; filtered / exact start: a step's first Newton system filtered, "
+              "or unfiltered where the previous step's unfiltered systems were all positive definite, "
+              "`-newton_exact_start`, the default; abs / adaptive filter: `-psd_projection abs` / `adaptive` in "
+              "place of backward Euler's clamp, with the exact start; element filter: `-psd_scope element`, each "
+              "element's whole Hessian clamped in place of each quadrature point's; no exact Hessian: "
+              "`-newton_exact_hessian false`, every Newton system filtered by clamp)"]
+    lines += ["", "## Slow steps (%d or more Newton updates)" % SLOW_UPDATES, "",
+              "From each run's `-newton_history`: the slow steps, of them those whose first Newton system was "
+              "unfiltered and failed (CG met negative curvature, or its direction did not descend; the step then "
+              "continued with the filter), their line-search cuts (updates shorter than full length) and extrapolated "
+              "updates (`-newton_extrapolate`), and the ratio of each full-length filtered step's |step|_inf (the "
+              "final correction included) to the previous one's in the same step (quartiles): near 0 is fast "
+              "convergence, near 1 a crawl.", "",
+              "| mesh | variant | slow steps | first system unfiltered and failed | line-search cuts | extrapolated | "
+              "step ratio: 25% / median / 75% |", "|---|---|---:|---:|---:|---:|---|"]
+    for label in labels:
+        for v in variants:
+            w = slow[label, v]
+            ratio = "%.2f / %.2f / %.2f" % tuple(w["ratio"]) if w["ratio"] is not None else "-"
+            lines.append("| %s | %s | %d | %d | %d | %d | %s |" % (
+                MESHES[label][2], v, w["count"], w["failed_first"], w["cuts"], w["extrapolated"], ratio))
+    shown = "exact start" if "exact start" in variants else variants[0]
+    lines += ["", "## Crushed cells at the output steps (%s)" % shown, "",
               "| mesh | step | crushed cells | of them near a support | smallest J | its rest centroid | its energy "
               "density / median |", "|---|---:|---:|---:|---:|---|---:|"]
     for label in labels:
-        for r in cells[label, "exact start"]:
+        for r in cells[label, shown]:
             lines.append("| %s | %d | %d | %d | %.3f | (%.3f, %.3f, %.3f) | %.0f |" % (
                 MESHES[label][2], r["step"], r["crushed"], r["near"], r["minJ"], *r["worst_at"], r["worst_e"]))
     open(a.out, "w").write("\n".join(lines) + "\n")
