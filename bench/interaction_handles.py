@@ -22,6 +22,7 @@ same command line and a stats row for every step asked for is read back, not run
 import argparse
 import datetime
 import os
+import re
 import subprocess
 import sys
 
@@ -131,7 +132,8 @@ def slow_steps(work, stats):
     """The steps of SLOW_UPDATES or more updates, from the Newton history: how many, how many began with an unfiltered
     system that failed (CG met negative curvature or the direction did not descend; its row is not applied), their
     line-search cuts and extrapolations, and how fast their full-length filtered steps shrink (the final correction
-    included; the median and the quartiles of the ratio of one's |step|_inf to the previous one's, within a step)."""
+    included; the median and the quartiles of the ratio of one's |step|_inf to the previous one's, within a step);
+    and the alpha safeguard's halvings in the whole run (the run's summary line)."""
     slow = {int(r["step"]) for r in stats if int(r["newton_its"]) >= SLOW_UPDATES}
     by_step = {}
     for r in scenes.read_stats(os.path.join(work, "history.csv"))[0]:
@@ -147,7 +149,11 @@ def slow_steps(work, stats):
         full = [float(r["step_inf"]) for r in rows if r["filter"] != "none" and float(r["lambda"]) == 1.0]
         ratios += [b / a for a, b in zip(full, full[1:]) if a > 0.0]
     q = np.percentile(ratios, [25, 50, 75]) if ratios else None
-    return dict(count=len(slow), failed_first=failed_first, cuts=cuts, extrapolated=extrapolated, ratio=q)
+    m = re.search(r"safeguard halvings (\d+)", open(os.path.join(work, "log.txt")).read())
+    if not m:
+        raise SystemExit("interaction_handles: no 'safeguard halvings' in %s/log.txt (the run's summary line)" % work)
+    return dict(count=len(slow), failed_first=failed_first, cuts=cuts, extrapolated=extrapolated, ratio=q,
+                halvings=int(m.group(1)))
 
 
 def phase_averages(stats):
@@ -226,15 +232,17 @@ def main():
               "continued with the filter), their line-search cuts (updates shorter than full length) and extrapolated "
               "updates (`-newton_extrapolate`), and the ratio of each full-length filtered step's |step|_inf (the "
               "final correction included) to the previous one's in the same step (quartiles): near 0 is fast "
-              "convergence, near 1 a crawl.", "",
-              "| mesh | variant | slow steps | first system unfiltered and failed | line-search cuts | extrapolated | "
-              "step ratio: 25% / median / 75% |", "|---|---|---:|---:|---:|---:|---|"]
+              "convergence, near 1 a crawl. Safeguard halvings: the alpha safeguard's in the whole run, every step.",
+              "", "| mesh | variant | slow steps | first system unfiltered and failed | line-search cuts | "
+              "extrapolated | step ratio: 25% / median / 75% | safeguard halvings |",
+              "|---|---|---:|---:|---:|---:|---|---:|"]
     for label in labels:
         for v in variants:
             w = slow[label, v]
             ratio = "%.2f / %.2f / %.2f" % tuple(w["ratio"]) if w["ratio"] is not None else "-"
-            lines.append("| %s | %s | %d | %d | %d | %d | %s |" % (
-                MESHES[label][2], v, w["count"], w["failed_first"], w["cuts"], w["extrapolated"], ratio))
+            lines.append("| %s | %s | %d | %d | %d | %d | %s | %d |" % (
+                MESHES[label][2], v, w["count"], w["failed_first"], w["cuts"], w["extrapolated"], ratio,
+                w["halvings"]))
     shown = "exact start" if "exact start" in variants else variants[0]
     lines += ["", "## Crushed cells at the output steps (%s)" % shown, "",
               "| mesh | step | crushed cells | of them near a support | smallest J | its rest centroid | its energy "
