@@ -15,7 +15,8 @@ boundary (the handles or the pinned base), and the worst cell (smallest J) with 
 table says how many). --variants picks the runs of each mesh (default: filtered start,exact start; also abs filter,
 adaptive filter: -psd_projection abs / adaptive in place of backward Euler's clamp; element filter: -psd_scope
 element, each element's whole Hessian clamped instead of each quadrature point's; no exact Hessian:
--newton_exact_hessian false, every system filtered). Each run
+-newton_exact_hessian false, every system filtered; density 100, density 1000: the scene's density 10 raised).
+Each run
 lives in out/interaction_handles/<mesh>/ with its stats, Newton history and output; a run whose directory holds the
 same command line and a stats row for every step asked for is read back, not run again. Use /usr/bin/python3.
 """
@@ -55,10 +56,12 @@ PHASES = [(1, 55), (56, 100), (101, 200)]
 # variant -> options: a step's first Newton system filtered (as before issue 45's measurement) or unfiltered (the
 # default), the Hessian filters (each with the default exact start; clamp per quadrature point, backward Euler's
 # default, is "exact start"; element: clamp of each element's whole Hessian), and projected Newton without the
-# unfiltered Hessian near the solution
+# unfiltered Hessian near the solution; the scene at 10 and 100 times its density (10; the paper does not give its
+# density), the mass term 10 and 100 times as large against the stiffness
 VARIANTS = {"filtered start": ["-newton_exact_start", "false"], "exact start": ["-newton_exact_start", "true"],
             "abs filter": ["-psd_projection", "abs"], "adaptive filter": ["-psd_projection", "adaptive"],
-            "element filter": ["-psd_scope", "element"], "no exact Hessian": ["-newton_exact_hessian", "false"]}
+            "element filter": ["-psd_scope", "element"], "no exact Hessian": ["-newton_exact_hessian", "false"],
+            "density 100": ["-density", "100"], "density 1000": ["-density", "1000"]}
 DEFAULT_VARIANTS = "filtered start,exact start"
 
 
@@ -206,7 +209,7 @@ def main():
                 scenes.machine_line(RANKS), CRUSHED_J, NEAR_BOX_H), "",
              "## Newton per step by phase", "",
              "| mesh | cells | h | variant | steps 1-55: Newton / solves | 56-100 | 101-200 | all steps | "
-             "s/step |", "|---|---:|---:|---|---|---|---|---|---:|"]
+             "s/step | crushed cells: most / smallest J |", "|---|---:|---:|---|---|---|---|---|---:|---|"]
     cells, slow = {}, {}
     for label in labels:
         for v in variants:
@@ -217,15 +220,18 @@ def main():
             ph = ["%.2f / %.2f (%d)" % (x[1], x[2], x[0]) if x else "-" for x in phase_averages(stats)]
             allp = "%.2f / %.2f (%d)" % (np.mean([int(r["newton_its"]) for r in stats]),
                                           np.mean([int(r["linear_solves"]) for r in stats]), len(stats))
-            lines.append("| %s | %d | %.4f | %s | %s | %s | %s | %s | %.2f |" % (
+            lines.append("| %s | %d | %.4f | %s | %s | %s | %s | %s | %.2f | %d / %.3f |" % (
                 MESHES[label][2], n, h, v, ph[0], ph[1], ph[2], allp,
-                np.mean([float(r["wall_s"]) for r in stats])))
-    lines += ["", "(in brackets: the steps averaged; filtered / exact start: a step's first Newton system filtered, "
+                np.mean([float(r["wall_s"]) for r in stats]), max(r["crushed"] for r in rows),
+                min(r["minJ"] for r in rows)))
+    lines += ["", "(in brackets: the steps averaged; crushed cells: the most at one output step (every %d steps) and "
+              "the smallest J over them; filtered / exact start: a step's first Newton system filtered, "
               "or unfiltered where the previous step's unfiltered systems were all positive definite, "
               "`-newton_exact_start`, the default; abs / adaptive filter: `-psd_projection abs` / `adaptive` in "
               "place of backward Euler's clamp, with the exact start; element filter: `-psd_scope element`, each "
               "element's whole Hessian clamped in place of each quadrature point's; no exact Hessian: "
-              "`-newton_exact_hessian false`, every Newton system filtered by clamp)"]
+              "`-newton_exact_hessian false`, every Newton system filtered by clamp; density 100 / 1000: `-density`, "
+              "the scene's 10 raised)" % OUTPUT_EVERY]
     lines += ["", "## Slow steps (%d or more Newton updates)" % SLOW_UPDATES, "",
               "From each run's `-newton_history`: the slow steps, of them those whose first Newton system was "
               "unfiltered and failed (CG met negative curvature, or its direction did not descend; the step then "
