@@ -65,6 +65,21 @@ VARIANTS = {"filtered start": ["-newton_exact_start", "false"], "exact start": [
 DEFAULT_VARIANTS = "filtered start,exact start"
 
 
+def read_scalar(key):
+    """A scalar of the scene's options file (E, dt, density)."""
+    for line in open(OPTIONS):
+        if line.startswith(key + ":"):
+            return float(line.split(":", 1)[1])
+    raise SystemExit("interaction_handles: no %s in %s" % (key, OPTIONS))
+
+
+def mass_to_stiffness(variant, h):
+    """A vertex's mass term against its cells' stiffness, rho h^3 / dt^2 over E h: rho h^2 / (E dt^2)."""
+    opts = VARIANTS[variant]
+    rho = float(opts[opts.index("-density") + 1]) if "-density" in opts else read_scalar("density")
+    return rho * h * h / (read_scalar("E") * read_scalar("dt") ** 2)
+
+
 def read_boxes():
     for line in open(OPTIONS):
         if line.startswith("bc_box:"):
@@ -209,7 +224,8 @@ def main():
                 scenes.machine_line(RANKS), CRUSHED_J, NEAR_BOX_H), "",
              "## Newton per step by phase", "",
              "| mesh | cells | h | variant | steps 1-55: Newton / solves | 56-100 | 101-200 | all steps | "
-             "s/step | crushed cells: most / smallest J |", "|---|---:|---:|---|---|---|---|---|---:|---|"]
+             "s/step | crushed cells: most / smallest J | rho h^2 / (E dt^2) |",
+             "|---|---:|---:|---|---|---|---|---|---:|---|---:|"]
     cells, slow = {}, {}
     for label in labels:
         for v in variants:
@@ -220,12 +236,13 @@ def main():
             ph = ["%.2f / %.2f (%d)" % (x[1], x[2], x[0]) if x else "-" for x in phase_averages(stats)]
             allp = "%.2f / %.2f (%d)" % (np.mean([int(r["newton_its"]) for r in stats]),
                                           np.mean([int(r["linear_solves"]) for r in stats]), len(stats))
-            lines.append("| %s | %d | %.4f | %s | %s | %s | %s | %s | %.2f | %d / %.3f |" % (
+            lines.append("| %s | %d | %.4f | %s | %s | %s | %s | %s | %.2f | %d / %.3f | %.2f |" % (
                 MESHES[label][2], n, h, v, ph[0], ph[1], ph[2], allp,
                 np.mean([float(r["wall_s"]) for r in stats]), max(r["crushed"] for r in rows),
-                min(r["minJ"] for r in rows)))
+                min(r["minJ"] for r in rows), mass_to_stiffness(v, h)))
     lines += ["", "(in brackets: the steps averaged; crushed cells: the most at one output step (every %d steps) and "
-              "the smallest J over them; filtered / exact start: a step's first Newton system filtered, "
+              "the smallest J over them; rho h^2 / (E dt^2): a vertex's mass term rho h^3 / dt^2 against its cells' "
+              "stiffness E h; filtered / exact start: a step's first Newton system filtered, "
               "or unfiltered where the previous step's unfiltered systems were all positive definite, "
               "`-newton_exact_start`, the default; abs / adaptive filter: `-psd_projection abs` / `adaptive` in "
               "place of backward Euler's clamp, with the exact start; element filter: `-psd_scope element`, each "
