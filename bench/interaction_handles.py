@@ -16,9 +16,9 @@ table says how many). --variants picks the runs of each mesh (default: filtered 
 adaptive filter: -psd_projection abs / adaptive in place of backward Euler's clamp; element filter: -psd_scope
 element, each element's whole Hessian clamped instead of each quadrature point's; no exact Hessian:
 -newton_exact_hessian false, every system filtered; density 100, density 1000: the scene's density 10 raised).
-Each run
-lives in out/interaction_handles/<mesh>/ with its stats, Newton history and output; a run whose directory holds the
-same command line and a stats row for every step asked for is read back, not run again. Use /usr/bin/python3.
+Each run lives in out/interaction_handles/<mesh>_<variant>/ with its stats, Newton history and output; a run whose
+directory holds the same command line and a stats row for every step asked for is read back, not run again. Use
+/usr/bin/python3.
 """
 import argparse
 import datetime
@@ -39,7 +39,8 @@ from harness import mpi_env  # noqa: E402
 
 WORK = os.path.join(ROOT, "out", "interaction_handles")
 OUT = os.path.join(ROOT, "bench", "results", "interaction_handles.md")
-OPTIONS = os.path.join(ROOT, "options", "bunny_interact.yml")
+SCENE = "bunny_interact"
+OPTIONS = os.path.join(ROOT, "options", SCENE + ".yml")
 RANKS = 2
 OUTPUT_EVERY = 10
 CRUSHED_J = 0.25
@@ -65,27 +66,23 @@ VARIANTS = {"filtered start": ["-newton_exact_start", "false"], "exact start": [
 DEFAULT_VARIANTS = "filtered start,exact start"
 
 
-def read_scalar(key):
-    """A scalar of the scene's options file (E, dt, density)."""
-    for line in open(OPTIONS):
-        if line.startswith(key + ":"):
-            return float(line.split(":", 1)[1])
-    raise SystemExit("interaction_handles: no %s in %s" % (key, OPTIONS))
+def scene_value(key, extra=()):
+    """A value of the scene's options file, or of the variant's options where they set it (scenes.yml_value)."""
+    value = scenes.yml_value(SCENE, key, list(extra))
+    if value == "-":
+        raise SystemExit("interaction_handles: no %s in %s" % (key, OPTIONS))
+    return value
 
 
 def mass_to_stiffness(variant, h):
     """A vertex's mass term against its cells' stiffness, rho h^3 / dt^2 over E h: rho h^2 / (E dt^2)."""
-    opts = VARIANTS[variant]
-    rho = float(opts[opts.index("-density") + 1]) if "-density" in opts else read_scalar("density")
-    return rho * h * h / (read_scalar("E") * read_scalar("dt") ** 2)
+    rho, E, dt = (float(scene_value(key, VARIANTS[variant])) for key in ("density", "E", "dt"))
+    return rho * h * h / (E * dt ** 2)
 
 
 def read_boxes():
-    for line in open(OPTIONS):
-        if line.startswith("bc_box:"):
-            v = [float(x) for x in line.split(":", 1)[1].split(",")]
-            return [v[i:i + 6] for i in range(0, len(v), 6)]
-    raise SystemExit("interaction_handles: no bc_box in %s" % OPTIONS)
+    v = [float(x) for x in scene_value("bc_box").split(",")]
+    return [v[i:i + 6] for i in range(0, len(v), 6)]
 
 
 def run(label, variant, steps, build):
