@@ -163,6 +163,18 @@ CATALOG = {
         "default": {"h": 0.04, "tets": 31998},
         "paper": {"alias": "default"},
     },
+    # two more, added when the bear's result was to be checked on shapes no default was measured on
+    # (bench/degenerate_starts.py --meshes bull,homer)
+    "bull": {
+        "test": {"h": 0.07, "tets": 3833},
+        "default": {"h": 0.033, "tets": 28648},
+        "paper": {"alias": "default"},
+    },
+    "homer": {
+        "test": {"h": 0.065, "tets": 2853},
+        "default": {"h": 0.03, "tets": 24277},
+        "paper": {"alias": "default"},
+    },
     # verification: Lame's thick sphere under internal pressure (inner radius 0.5, outer 1), h = 0.2 ... 0.05
     "shell": {
         "coarse": {"h": 0.3, "tets": 960},  # P2's coarsest in the inflation (bench/verification.py)
@@ -238,6 +250,8 @@ PAPER = {  # the paper's meshes (Table 1: tets, Table 2: cloth triangles), for t
     "hand": "(not in the paper)",
     "camel": "(not in the paper)",
     "bear": "(not in the paper)",
+    "bull": "(not in the paper)",
+    "homer": "(not in the paper)",
     "cloth": "32,768",
     "disk": "(not in the paper)",
     "shell": "(verification: Lame's sphere)",
@@ -379,6 +393,8 @@ SOURCE_SHA256 = {
     "data/meshes/hand.off": "cfcf1562726167ca704a091a8651bfd1d72f6eb96b4b2819321f0520721b35c7",
     "data/meshes/camel.off": "9ac960a9fee27e6fcc6baaa2340260834625084ee20f4a97194212404e650a22",
     "data/meshes/bear.off": "058f6ce62635e5f86958adea9706a8dca3ebe4fae76a0d32b8318d107d40bda6",
+    "data/meshes/bull.off": "5c7b9631f8c278c12b30c0eea0b72da871504674516daf7d7eaaf5fa4154224a",
+    "data/meshes/homer.off": "99396cceb6f97e9681545d5c718d4ed87da3ceb78d22afb0218d570e9f0a0873",
     "data/meshes/lion-head.off": "cf159eeb12a3f3f345e57448693e9f0d115f3f6f38fd1d4519b336cede849289",
     "data/meshes/nefertiti.off": "d8b13239b988d0262fbc91e88da1d314eeb1b284c327a3fe76089c2b54886ccf",
 }
@@ -637,6 +653,8 @@ TRICERATOPS_SCALE = 0.07
 HAND_SCALE = 1.0
 CAMEL_SCALE = 1.05
 BEAR_SCALE = 1.0
+BULL_SCALE = 1.6   # source largest extent 1 (its length): 1.6 x 1.09 x 1.28 after scaling
+HOMER_SCALE = 1.6  # source largest extent 1 (its height): 0.90 x 0.52 x 1.6 after scaling
 
 
 def build_cgal_solid(member, scale, p):
@@ -665,6 +683,14 @@ def build_camel(p):
 
 def build_bear(p):
     return build_cgal_solid("data/meshes/bear.off", BEAR_SCALE, p)
+
+
+def build_bull(p):
+    return build_cgal_solid("data/meshes/bull.off", BULL_SCALE, p)
+
+
+def build_homer(p):
+    return build_cgal_solid("data/meshes/homer.off", HOMER_SCALE, p)
 
 
 def build_octopus(p):
@@ -1054,7 +1080,8 @@ def build_nefertiti(p):
 
 BUILDERS = {"box": build_box, "cylinder": build_cylinder, "cube": build_cube, "hexcube": build_hexcube, "armadillo": build_armadillo,
             "bunny": build_bunny, "octopus": build_octopus, "triceratops": build_triceratops,
-            "hand": build_hand, "camel": build_camel, "bear": build_bear, "cloth": build_cloth, "cook": build_cook, "beam": build_beam,
+            "hand": build_hand, "camel": build_camel, "bear": build_bear, "bull": build_bull, "homer": build_homer,
+            "cloth": build_cloth, "cook": build_cook, "beam": build_beam,
             "cook_slab": build_cook_slab, "cook_slab_full": build_cook_slab_full, "cook_hex": build_cook_hex,
             "tube": build_tube, "tube_hex": build_tube_hex, "shell_hex": build_shell_hex,
             "tube_curved": build_tube_curved, "shell_curved": build_shell_curved,
