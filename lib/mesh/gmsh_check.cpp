@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -91,13 +92,22 @@ class Reader {
       return fail(std::string(what) + " ends early at " + l);
     }
     v->clear();
-    std::istringstream s(l);
-    std::string tok;
-    while (s >> tok) {
+    // Whitespace-separated tokens, each wholly a number (strtod in place: no stream or token copies per line, which
+    // took half of this pass's second on a 1M-tet file).
+    const char *p = l.c_str();
+    const auto space = [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; };
+    while (true) {
+      while (space(*p)) ++p;
+      if (*p == '\0') break;
       char *end = nullptr;
-      const double x = std::strtod(tok.c_str(), &end);
-      if (end == tok.c_str() || *end != '\0') return fail("'" + tok + "' is not a number in " + what);
+      const double x = std::strtod(p, &end);
+      if (end == p || !(*end == '\0' || space(*end))) {
+        const char *stop = p;
+        while (*stop != '\0' && !space(*stop)) ++stop;
+        return fail("'" + std::string(p, stop) + "' is not a number in " + what);
+      }
       v->push_back(x);
+      p = end;
     }
     return integers(*v, what, 0, integerColumns);
   }
