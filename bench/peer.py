@@ -138,7 +138,7 @@ def run_aries(binary, msh, size, ranks, variant, extra, timeout, rounds):
         with open(base + ".csv") as fh:
             step = float(next(csv.DictReader(l for l in fh if not l.startswith("#")))["wall_s"])
         with open(os.path.join(d, "log.txt")) as fh:
-            log = fh.read()
+            log = fh.read()  # read once: the timings here, the preconditioner and sub-steps below
         setup = re.search(r"wall time setup ([0-9.]+) s", log)
         model = re.search(r"\(model evaluations ([0-9.]+) s\)", log)  # of the steps' time
         for k, x in (("total_s", wall), ("solve_s", step), ("setup_s", float(setup.group(1)) if setup else None),
@@ -155,8 +155,6 @@ def run_aries(binary, msh, size, ranks, variant, extra, timeout, rounds):
         meta["build"] = next((l[1:].strip() for l in lines if l.startswith("# aries")), "?")
         meta.update(newton=int(row["newton_its"]), linear_solves=int(row["linear_solves"]), krylov=int(row["ksp_its"]),
                     reason=row["reason"], residual=float(row["residual"]))
-        with open(os.path.join(d, "log.txt")) as fh:
-            log = fh.read()
         meta["pc"] = "CG + GAMG" if "linear solver CG + GAMG" in log or "gamg" in extra else "CG + Jacobi"
         sub = re.search(r"load sub-steps (\d+)", log)
         meta["substeps"] = int(sub.group(1)) if sub else 0
@@ -372,11 +370,11 @@ def findings(find, sizes, cells, ranks):
                              "(%.1f s against %.1f s)." % (n, "s" if n > 1 else "", "{:,}".format(cells[s]), dflt["pc"],
                                                            jac["total_s"] / dflt["total_s"], dflt["total_s"],
                                                            jac["total_s"]))
-                lines += speedup_bound(find, s, n, cells, dflt, jac)
+                lines += speedup_bound(find, s, n, dflt, jac)
     return lines
 
 
-def speedup_bound(find, s, n, cells, dflt, jac):
+def speedup_bound(find, s, n, dflt, jac):
     """How fast the default's linear algebra would have to be for a 2x end to end over CG + Jacobi: the rest of its
     run (setup, model evaluations, output, process start and end) is shared by any linear solver."""
     if dflt.get("model_s") is None:
