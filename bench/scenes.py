@@ -11,7 +11,8 @@ PCG/step, s/step; it also renders the final cloth states to PNG (bench/results/i
 Eigen PCG + Jacobi. --steps K runs only the first K steps of each scene (the averages are then over those steps,
 stated in the table); without it every scene runs its full length (hours on 2 cores for the largest). --resume K
 checkpoints every K steps, so that a run cut short (a session's end) continues where it stopped when the same command
-is given again; a finished scene's checkpoint is removed. --reuse reads a finished scene back (its work directory
+is given again, and so does a run stopped at --steps K short of the scene's length when given again with a larger K
+(the averages are then over the steps run so far, as with --steps); a scene run to its end has its checkpoint removed. --reuse reads a finished scene back (its work directory
 holds stats for every step and no checkpoint) instead of running it again; the table names the aries build of each
 row read back or continued from a checkpoint (a table can so be completed scene by scene across sessions). Default
 output: bench/results/table<N>.md; its header names the date and the commit the runs were made at. Use
@@ -164,8 +165,10 @@ def run_scene(a, env, name, opts, extra, msh, total_steps):
         p = subprocess.run(cmd, cwd=ROOT, env=env, stdout=fh, stderr=subprocess.STDOUT)
     if not os.path.exists(stats):
         sys.exit("%s wrote no stats (exit %d); its log: %s" % (name, p.returncode, log))
-    if p.returncode == 0 and os.path.exists(checkpoint):
+    if p.returncode == 0 and os.path.exists(checkpoint) and want == total_steps:
         os.remove(checkpoint)  # finished: a later --resume starts this scene afresh
+    # stopped at --steps short of the scene's length: the checkpoint stays, and a later --resume with more --steps
+    # continues from it (the scene's full length run in parts, a session at a time)
     summary = [l for l in open(log).read().splitlines() if l.startswith("aries:")]
     print("\n".join(summary[-3:]), flush=True)
     rows, build = read_stats(stats)
