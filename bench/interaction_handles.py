@@ -15,7 +15,8 @@ boundary (the handles or the pinned base), and the worst cell (smallest J) with 
 table says how many). --variants picks the runs of each mesh (default: filtered start,exact start; also abs filter,
 adaptive filter: -psd_projection abs / adaptive in place of backward Euler's clamp; element filter: -psd_scope
 element, each element's whole Hessian clamped instead of each quadrature point's; no exact Hessian:
--newton_exact_hessian false, every system filtered; density 100, density 1000: the scene's density 10 raised).
+-newton_exact_hessian false, every system filtered; density 100, density 1000: the scene's density 10 raised;
+handles 0.03: the two handles pushed 0.03 into the cheeks in place of the scene's 0.06).
 Each run lives in out/interaction_handles/<mesh>_<variant>/ with its stats, Newton history and output; a run whose
 directory holds the same command line and a stats row for every step asked for is read back, not run again. Use
 /usr/bin/python3.
@@ -62,7 +63,9 @@ PHASES = [(1, 55), (56, 100), (101, 200)]
 VARIANTS = {"filtered start": ["-newton_exact_start", "false"], "exact start": ["-newton_exact_start", "true"],
             "abs filter": ["-psd_projection", "abs"], "adaptive filter": ["-psd_projection", "adaptive"],
             "element filter": ["-psd_scope", "element"], "no exact Hessian": ["-newton_exact_hessian", "false"],
-            "density 100": ["-density", "100"], "density 1000": ["-density", "1000"]}
+            "density 100": ["-density", "100"], "density 1000": ["-density", "1000"],
+            # the handles pushed half as deep (0.03 into each cheek in place of 0.06): the scene's crushing at their edges
+            "handles 0.03": ["-bc_box_2_translate", "0,0.03,0", "-bc_box_3_translate", "0,-0.03,0"]}
 DEFAULT_VARIANTS = "filtered start,exact start"
 
 
@@ -245,7 +248,8 @@ def main():
               "place of backward Euler's clamp, with the exact start; element filter: `-psd_scope element`, each "
               "element's whole Hessian clamped in place of each quadrature point's; no exact Hessian: "
               "`-newton_exact_hessian false`, every Newton system filtered by clamp; density 100 / 1000: `-density`, "
-              "the scene's 10 raised)" % OUTPUT_EVERY]
+              "the scene's 10 raised; handles 0.03: the handles pushed 0.03 into the cheeks in place of 0.06, "
+              "`-bc_box_2_translate 0,0.03,0 -bc_box_3_translate 0,-0.03,0`)" % OUTPUT_EVERY]
     lines += ["", "## Slow steps (%d or more Newton updates)" % SLOW_UPDATES, "",
               "From each run's `-newton_history`: the slow steps, of them those whose first Newton system was "
               "unfiltered and failed (CG met negative curvature, or its direction did not descend; the step then "
