@@ -64,7 +64,7 @@ VARIANTS = {"filtered start": ["-newton_exact_start", "false"], "exact start": [
             "abs filter": ["-psd_projection", "abs"], "adaptive filter": ["-psd_projection", "adaptive"],
             "element filter": ["-psd_scope", "element"], "no exact Hessian": ["-newton_exact_hessian", "false"],
             "density 100": ["-density", "100"], "density 1000": ["-density", "1000"],
-            # the handles pushed half as deep (0.03 into each cheek in place of 0.06): the scene's crushing at their edges
+            # the handles pushed half as deep (0.03 into each cheek in place of 0.06): less crushing at their edges
             "handles 0.03": ["-bc_box_2_translate", "0,0.03,0", "-bc_box_3_translate", "0,-0.03,0"]}
 DEFAULT_VARIANTS = "filtered start,exact start"
 

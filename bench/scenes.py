@@ -12,10 +12,12 @@ Eigen PCG + Jacobi. --steps K runs only the first K steps of each scene (the ave
 stated in the table); without it every scene runs its full length (hours on 2 cores for the largest). --resume K
 checkpoints every K steps, so that a run cut short (a session's end) continues where it stopped when the same command
 is given again, and so does a run stopped at --steps K short of the scene's length when given again with a larger K
-(the averages are then over the steps run so far, as with --steps); a scene run to its end has its checkpoint removed. --reuse reads a finished scene back (its work directory
-holds stats for every step and no checkpoint) instead of running it again; the table names the aries build of each
-row read back or continued from a checkpoint (a table can so be completed scene by scene across sessions). Default
-output: bench/results/table<N>.md; its header names the date and the commit the runs were made at. Use
+(the averages are then over the steps run so far, as with --steps); a scene run to its end has its checkpoint
+removed. --reuse reads a finished scene back (its work directory holds stats for every step asked for, and no
+checkpoint unless the run stopped at --steps K short of the scene's length) instead of running it again; the table
+names the aries build of each row read back or continued from a checkpoint (a table can so be completed scene by
+scene across sessions). Default output: bench/results/table<N>.md; its header names the command, the date and the
+commit the runs were made at. Use
 /usr/bin/python3 (Debian's).
 """
 import argparse
@@ -139,7 +141,8 @@ def run_scene(a, env, name, opts, extra, msh, total_steps):
     base = os.path.join(work, name)
     checkpoint = base + ".checkpoint.h5"
     want = min(a.steps, total_steps) if a.steps else total_steps
-    if a.reuse and os.path.exists(stats) and not os.path.exists(checkpoint):
+    # a checkpoint left behind means a run cut short, unless the run stopped at --steps on purpose (run_scene keeps it)
+    if a.reuse and os.path.exists(stats) and (want < total_steps or not os.path.exists(checkpoint)):
         rows, build = read_stats(stats)
         if len(rows) == want:
             print("%s: read back %d steps from %s (%s)" % (name, len(rows), stats, build), flush=True)
@@ -238,7 +241,7 @@ def main():
     reused = []
     # checked before the runs: a commit made while they run must not be credited with their numbers
     date = "%s UTC at %s" % (datetime.datetime.utcnow().strftime("%Y-%m-%d %H:%M"), commit_line())
-    command = " ".join(["bench/scenes.py"] + [shlex.quote(x) for x in sys.argv[1:]])  # as given: --resume, --out, ...
+    command = " ".join(["bench/scenes.py"] + [shlex.quote(x) for x in sys.argv[1:]])  # as given (--resume, --out)
     steps_note = (["Averages are over the first %d steps of each scene (prescribed motions keep their full-length ramp), "
                    "not over the whole run.\n" % a.steps] if a.steps else [])
     if a.table == 1:
