@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Newton's work on the scenes whose supports move: before and after, and the Hessian filters.
 
-usage: bench/newton_work.py run [--before BIN] [--after BIN] [--groups lifting,filters,reference,always] [--only LABEL,...]
+usage: bench/newton_work.py run [--before BIN] [--after BIN] [--groups lifting,filters,reference,always,predictor]
+                                [--only LABEL,...]
        bench/newton_work.py report [--out bench/results/newton_work.md]
 
 `run` solves each scene below with two aries builds, "before" (--before: a build of an earlier commit; without it the
@@ -11,7 +12,10 @@ out/newton_work/ (a run whose directory holds the same command line and a finish
 again). The filter group runs the after build with each element Hessian filter (-psd_projection clamp, abs, adaptive,
 none) and with the default filter but -newton_exact_hessian false; the reference group solves each static scene with the
 after build at -newton_tol 1e-8 (quadratic convergence gets there in a few updates), the solution both builds' states
-are measured against; the always group runs the dynamic scenes with -lift_increments always. `report` writes the tables: steps converged, Newton updates, linear solves and PCG iterations per step, seconds
+are measured against; the always group runs the dynamic scenes with -lift_increments always; the predictor group runs the backward Euler
+scenes (the dynamic and interaction ones) with the after build's start from x_n + dt v_n alone (-predictor_acceleration
+false, as before it existed) and with the acceleration's extrapolation as well (-predictor_acceleration true, the
+default). `report` writes the tables: steps converged, Newton updates, linear solves and PCG iterations per step, seconds
 per step (averages over every step of a run, as the paper's tables), the load sub-steps, and how far the after state
 is from the before state at the end (the largest vertex distance over the Newton tolerance of the run: below 1, the
 two builds agree within what the tolerance certifies).
@@ -81,6 +85,11 @@ FILTER_SCENES = ["cylinder static, 1 load step", "cylinder static, 3 load steps"
                  "cube_ortho_compress (Fig. 3)", "interaction, tets (Fig. 13)", "interaction, hexahedra (Fig. 13)"]
 
 
+# the predictor group: backward Euler's start without and with the extrapolated acceleration (variant, option value)
+PREDICTOR_STARTS = [("predictor_velocity", "false"), ("predictor_acceleration", "true")]
+PREDICTOR_NAMES = {"predictor_velocity": "x_n + dt v_n", "predictor_acceleration": "+ dt^2 a_n (default)"}
+
+
 # the static scenes' reference solution: the after build at this -newton_tol (its Newton converges quadratically there)
 REFERENCE_TOL = 1e-8
 
@@ -144,6 +153,11 @@ def cmd_run(a):
         if "always" in groups and SCENES[label][3] == "dynamic":
             m = run_one(after, label, "always", ["-lift_increments", "always"], a.timeout)
             print("%s, -lift_increments always: exit %s, %.0f s" % (label, m["exit"], m["wall"]), flush=True)
+        if "predictor" in groups and SCENES[label][3] in ("dynamic", "interaction"):
+            for variant, value in PREDICTOR_STARTS:
+                m = run_one(after, label, variant, ["-predictor_acceleration", value], a.timeout)
+                print("%s, -predictor_acceleration %s: exit %s, %.0f s" % (label, value, m["exit"], m["wall"]),
+                      flush=True)
         if "filters" in groups and label in FILTER_SCENES:
             for f, extra in FILTERS.items():
                 m = run_one(after, label, "filter_" + slug(f), extra, a.timeout)
@@ -273,6 +287,35 @@ def cmd_report(a):
         if run:
             lines.append("| %s | auto (default) | %s |" % (label, " | ".join(row_cells(default))))
             lines.append("| %s | always | %s |" % (label, " | ".join(row_cells(run))))
+    lines += ["", "## The start of a backward Euler step", "",
+              "Each backward Euler scene started from the prediction x_n + dt v_n alone (-predictor_acceleration "
+              "false) and also from the extrapolation of the last step's acceleration, x_n + dt v_n + dt^2 a_n "
+              "(-predictor_acceleration true, the default), each taken where its total potential is lower and the "
+              "safeguard accepts it. Time ratio = s/step without / with; distance = the largest vertex distance "
+              "between the two runs' final states over the Newton tolerance (1e-2 L dt).", "",
+              "| scene | start | steps converged | Newton/step | solves/step | PCG/step | s/step | sub-steps | "
+              "time ratio | distance / tol |",
+              "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    predictor_builds = set()
+    for label in SCENES:
+        runs = [read_run(label, v) for v, _ in PREDICTOR_STARTS]
+        if not any(runs):
+            continue
+        ratio = dist = "-"
+        if all(r and r["rows"] for r in runs):
+            ratio = "%.2fx" % (averages(runs[0])["seconds"] / averages(runs[1])["seconds"])
+            try:
+                d = np.linalg.norm(final_positions(runs[0]) - final_positions(runs[1]), axis=1).max()
+                dist = "%.2g" % (d / tolerance(runs[1], label))
+            except (OSError, KeyError, IndexError, ValueError):
+                pass
+        for (variant, _), run in zip(PREDICTOR_STARTS, runs):
+            if run and "build" in run:
+                predictor_builds.add(run["build"])
+            last = variant == PREDICTOR_STARTS[-1][0]
+            lines.append("| %s | %s | %s | %s | %s |" % (label, PREDICTOR_NAMES[variant], " | ".join(row_cells(run)),
+                                                         ratio if last else "", dist if last else ""))
+    lines += ["", "Builds: " + "; ".join(sorted(predictor_builds)) + "."]
     lines += ["", "## Hessian filters (after build)", "",
               "Each scene with each element Hessian filter (-psd_projection, each with the unfiltered Hessian after "
               "full-length updates, -newton_exact_hessian, on by default), and the default filter without it; the "

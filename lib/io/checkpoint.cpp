@@ -58,7 +58,7 @@ PetscErrorCode writeCheckpoint(const solver::Simulation &sim, const core::Natura
   PetscCall(PetscObjectGetComm((PetscObject)disc.dm(), &comm));
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   Vec xLocal, vLocal;
-  std::vector<double> owned, positions, velocities;
+  std::vector<double> owned, positions, velocities, accelerations;
   PetscCall(DMGetLocalVector(disc.dm(), &xLocal));
   PetscCall(DMGetLocalVector(disc.dm(), &vLocal));
   PetscCall(sim.localState(xLocal));
@@ -67,6 +67,9 @@ PetscErrorCode writeCheckpoint(const solver::Simulation &sim, const core::Natura
   PetscCall(vertices.toBlocks(owned, 3, &positions));
   PetscCall(disc.diagnostics().ownedVertexValues(vLocal, &owned));
   PetscCall(vertices.toBlocks(owned, 3, &velocities));
+  PetscCall(sim.localAcceleration(vLocal));
+  PetscCall(disc.diagnostics().ownedVertexValues(vLocal, &owned));
+  PetscCall(vertices.toBlocks(owned, 3, &accelerations));
   PetscCall(DMRestoreLocalVector(disc.dm(), &xLocal));
   PetscCall(DMRestoreLocalVector(disc.dm(), &vLocal));
   std::string err;
@@ -81,6 +84,8 @@ PetscErrorCode writeCheckpoint(const solver::Simulation &sim, const core::Natura
   hid_t f = dirOk ? core::createParallelFile(comm, tmp) : -1;
   bool ok = f >= 0 && core::writeBlockDataset(f, "/positions", vertices, positions, 3) &&
             core::writeBlockDataset(f, "/velocities", vertices, velocities, 3) &&
+            core::writeBlockDataset(f, "/accelerations", vertices, accelerations, 3) &&
+            writeScalarAttribute(f, "acceleration", H5T_NATIVE_INT, sim.hasAcceleration() ? 1 : 0) &&
             writeScalarAttribute(f, "step", H5T_NATIVE_LLONG, step) &&
             writeScalarAttribute(f, "time", H5T_NATIVE_DOUBLE, time) &&
             writeScalarAttribute(f, "load", H5T_NATIVE_DOUBLE, load) &&
@@ -106,6 +111,7 @@ PetscErrorCode readCheckpoint(const fem::Discretization &disc, const std::string
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   std::string err;
   long long step = 0, nv = 0, nc = 0;
+  int hasAcceleration = 0;  // attribute acceleration (absent in checkpoints from before it: none)
   double scalars[2] = {0, 0};
   int memory[kMemoryFields];
   memoryToInts(solver::NewtonMemory{}, memory);  // the defaults, for attributes an older checkpoint lacks
@@ -135,6 +141,9 @@ PetscErrorCode readCheckpoint(const fem::Discretization &disc, const std::string
                  !readScalarAttribute(f, "num_vertices", H5T_NATIVE_LLONG, &nv) ||
                  !readScalarAttribute(f, "num_cells", H5T_NATIVE_LLONG, &nc)) {
         err = "checkpoint '" + path + "' is incomplete (missing attributes)";
+      } else if (H5Aexists(f, "acceleration") > 0 &&
+                 !readScalarAttribute(f, "acceleration", H5T_NATIVE_INT, &hasAcceleration)) {
+        err = "checkpoint '" + path + "' has a malformed attribute acceleration";
       } else if (!readMemoryAttributes(f, memory)) {
         err = "checkpoint '" + path +
               "' has malformed attributes filter_backoff / filter_skip / filter_override / filter_exact_start";
@@ -151,12 +160,13 @@ PetscErrorCode readCheckpoint(const fem::Discretization &disc, const std::string
   PetscCallMPI(MPI_Bcast(&step, 1, MPI_LONG_LONG, 0, comm));
   PetscCallMPI(MPI_Bcast(scalars, 2, MPI_DOUBLE, 0, comm));
   PetscCallMPI(MPI_Bcast(memory, kMemoryFields, MPI_INT, 0, comm));
+  PetscCallMPI(MPI_Bcast(&hasAcceleration, 1, MPI_INT, 0, comm));
   // Every rank reads its block of rows, then the rows move to the ranks that own those vertices.
   std::vector<PetscInt> natural, local;
   disc.diagnostics().ownedVertexIds(&natural, &local);
   core::NaturalBlocks vertices;
   PetscCall(vertices.setup(comm, mesh.numVerticesGlobal, natural));
-  std::vector<double> positions, velocities;
+  std::vector<double> positions, velocities, accelerations;
   H5E_auto2_t func;
   void *data;
   H5Eget_auto2(H5E_DEFAULT, &func, &data);
@@ -164,19 +174,26 @@ PetscErrorCode readCheckpoint(const fem::Discretization &disc, const std::string
   hid_t f = core::openParallelFile(comm, path);
   bool ok = f >= 0 && core::readBlockDataset(f, "/positions", vertices, 3, &positions) &&
             core::readBlockDataset(f, "/velocities", vertices, 3, &velocities);
+  const bool accelOk = !ok || !hasAcceleration || core::readBlockDataset(f, "/accelerations", vertices, 3, &accelerations);
   if (f >= 0) H5Fclose(f);
   H5Eset_auto2(H5E_DEFAULT, func, data);
   PetscCall(core::collectiveCheck(comm, !ok, "checkpoint '" + path + "' has missing or malformed /positions or /velocities"));
-  std::vector<double> ownedX, ownedV;
+  PetscCall(core::collectiveCheck(comm, !accelOk,
+                                  "checkpoint '" + path + "' has attribute acceleration 1 but a missing or malformed "
+                                  "/accelerations"));
+  std::vector<double> ownedX, ownedV, ownedA;
   PetscCall(vertices.fromBlocks(positions, 3, &ownedX));
   PetscCall(vertices.fromBlocks(velocities, 3, &ownedV));
+  if (hasAcceleration) PetscCall(vertices.fromBlocks(accelerations, 3, &ownedA));
   const size_t numLocal = static_cast<size_t>(mesh.vEnd - mesh.vStart);
   st->positions.assign(3 * numLocal, 0.0);
   st->velocities.assign(3 * numLocal, 0.0);
+  st->accelerations.assign(hasAcceleration ? 3 * numLocal : 0, 0.0);
   for (size_t k = 0; k < local.size(); ++k)
     for (int i = 0; i < 3; ++i) {
       st->positions[3 * local[k] + i] = ownedX[3 * k + i];
       st->velocities[3 * local[k] + i] = ownedV[3 * k + i];
+      if (hasAcceleration) st->accelerations[3 * local[k] + i] = ownedA[3 * k + i];
     }
   st->step = static_cast<PetscInt>(step);
   st->time = scalars[0];

@@ -165,7 +165,11 @@ PetscErrorCode Simulation::startFromCoarse(double dt, double loadTarget, bool *u
   accepted.prediction = nullptr;
   PetscCall(cs.disc_->setStep(accepted));
   PetscCall(restrictTo(c, xPrev_, true, cs.x_));
-  if (dynamic) PetscCall(restrictTo(c, vPrev_, false, cs.v_));
+  if (dynamic) {
+    PetscCall(restrictTo(c, vPrev_, false, cs.v_));
+    PetscCall(restrictTo(c, a_, false, cs.a_));  // its -predictor_acceleration extrapolates this level's a_n
+    cs.haveAccel_ = haveAccel_;
+  }
   cs.currentStep_ = currentStep_;
   cs.coarseWork_ = NewtonResult();
   NewtonResult r;

@@ -37,6 +37,7 @@ struct SimulationOptions {
   PetscInt maxStepHalvings = 6;
   PetscInt maxLoadHalvings = 20;
   bool predictorStart = false;  // -predictor_start (backward Euler; on by default there)
+  bool predictorAcceleration = false;  // -predictor_acceleration (with -predictor_start; on by default there)
   bool detachedStart = false;   // -static_detached_start (static runs from a synthetic start; on by default there)
   bool detachedShapeFirst = true;  // -static_detached_shape_first: the detached relaxation starts without volume terms
   double beulerShapeFirst = 0.0;   // -beuler_shape_first: backward Euler from a start dominated by volume terms, likewise
@@ -123,17 +124,22 @@ class Simulation {
   Vec velocity() const { return v_; }
   // Local copy of the velocities, 0 on the Dirichlet vertices (caller restores with DMRestoreLocalVector).
   PetscErrorCode localVelocity(Vec vLocal) const;
+  // The last step's acceleration a_n = (v_n - v_{n-1}) / dt, local copy as localVelocity; hasAcceleration() is false
+  // where there is none to extrapolate (before the first step, after a synthetic start's step or an unconverged one).
+  PetscErrorCode localAcceleration(Vec aLocal) const;
+  bool hasAcceleration() const { return haveAccel_; }
   PetscInt completedSteps() const { return completedSteps_; }
   double time() const { return time_; }
 
   // What the Newton solver carries from step to step (checkpointed).
   NewtonMemory newtonMemory() const { return newton_.memory(); }
 
-  // Continue from a saved state (checkpoint): positions and velocities of this rank's vertices by local vertex index
-  // (v - vStart, 3 values each; only the owned free components are read), the last completed step, its time, the
-  // load parameter and the Newton solver's memory. Collective.
+  // Continue from a saved state (checkpoint): positions, velocities and accelerations of this rank's vertices by local
+  // vertex index (v - vStart, 3 values each; only the owned free components are read; accelerations empty: none),
+  // the last completed step, its time, the load parameter and the Newton solver's memory. Collective.
   PetscErrorCode resume(const std::vector<double> &positions, const std::vector<double> &velocities,
-                        PetscInt completedStep, double time, double load, const NewtonMemory &memory);
+                        const std::vector<double> &accelerations, PetscInt completedStep, double time, double load,
+                        const NewtonMemory &memory);
 
  private:
   PetscErrorCode applyInitialState();
@@ -156,6 +162,8 @@ class Simulation {
   SimulationOptions opts_;
   NewtonSolver newton_;
   Vec x_ = nullptr, v_ = nullptr, xPrev_ = nullptr, vPrev_ = nullptr, xTilde_ = nullptr;
+  Vec a_ = nullptr, xTry_ = nullptr;  // the last step's acceleration; the extrapolated start (startFromPrediction)
+  bool haveAccel_ = false;            // a_ holds an acceleration to extrapolate
   PetscLogStage solveStage_ = -1;
   PetscInt completedSteps_ = 0;
   double time_ = 0.0;

@@ -48,6 +48,11 @@ inline constexpr OptionDecl predictorStart =
                "beuler: Newton starts from the prediction x_n + dt v_n when its total potential is lower and the "
                "safeguard accepts it")
         .byDefault("true");
+inline constexpr OptionDecl predictorAcceleration =
+    flagOption("-predictor_acceleration",
+               "beuler, with -predictor_start: the start may also be x_n + dt v_n + dt^2 a_n (a_n the last step's "
+               "acceleration), taken where its total potential is lower still and the safeguard accepts it")
+        .byDefault("true");
 inline constexpr OptionDecl beulerShapeFirst =
     realOption("-beuler_shape_first", "X",
                "beuler from scramble, invert or collapse starts: step 1 first solves without the volume terms where "
@@ -79,7 +84,8 @@ inline constexpr OptionDecl maxStepHalvings =
 
 inline constexpr const OptionDecl *kSteppingOptions[] = {
     &integrator, &dt, &steps, &initial, &scrambleVolumeRatio, &scrambleSeed, &detachedStart, &detachedShapeFirst,
-    &beulerShapeFirst, &beulerShapeFirstTol, &beulerStartProjection, &predictorStart, &onFailure, &maxStepHalvings};
+    &beulerShapeFirst, &beulerShapeFirstTol, &beulerStartProjection, &predictorStart, &predictorAcceleration, &onFailure,
+    &maxStepHalvings};
 
 // ---- nested iteration (solver/nested_start.cpp) ----
 using core::wordsOption;
