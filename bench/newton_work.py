@@ -10,15 +10,16 @@ same build with -lift_increments never, which moves the supports alone as aries 
 default build/aries), 2 MPI ranks, and keeps every run's stats, Newton history, log and final state in
 out/newton_work/ (a run whose directory holds the same command line and a finished result is read back, not run
 again). The filter group runs the after build with each element Hessian filter (-psd_projection clamp, abs, adaptive,
-none) and with the default filter but -newton_exact_hessian false; the reference group solves each static scene with the
-after build at -newton_tol 1e-8 (quadratic convergence gets there in a few updates), the solution both builds' states
-are measured against; the always group runs the dynamic scenes with -lift_increments always; the predictor group runs the backward Euler
-scenes (the dynamic and interaction ones) with the after build's start from x_n + dt v_n alone (-predictor_acceleration
-false, as before it existed) and with the acceleration's extrapolation as well (-predictor_acceleration true, the
-default). `report` writes the tables: steps converged, Newton updates, linear solves and PCG iterations per step, seconds
-per step (averages over every step of a run, as the paper's tables), the load sub-steps, and how far the after state
-is from the before state at the end (the largest vertex distance over the Newton tolerance of the run: below 1, the
-two builds agree within what the tolerance certifies).
+none) and with the default filter but -newton_exact_hessian false; the reference group solves each static scene with
+the after build at -newton_tol 1e-8 (quadratic convergence gets there in a few updates), the solution both builds'
+states are measured against; the always group runs the dynamic scenes with -lift_increments always; the predictor
+group runs the backward Euler scenes (the dynamic and interaction ones) with the after build's start from x_n + dt v_n
+alone (-predictor_acceleration false, as before it existed) and with the acceleration's extrapolation as well
+(-predictor_acceleration true, the default). `report` writes the tables of the groups that have runs in
+out/newton_work/: steps converged, Newton updates, linear solves and PCG iterations per step, seconds per step
+(averages over every step of a run, as the paper's tables), the load sub-steps, and how far the after state is from
+the before state at the end (the largest vertex distance over the Newton tolerance of the run: below 1, the two builds
+agree within what the tolerance certifies).
 
 Scenes (options files and meshes of the repository, meshes/generate.sh):
   - the static compressed cylinder (options/cylinder_compress.yml as a static run: 30% in 1 and in 3 load steps, on
@@ -27,7 +28,10 @@ Scenes (options files and meshes of the repository, meshes/generate.sh):
     step of each);
   - the Fig. 13 interaction (bunny_interact: handles pushed 0.06 into the cheeks over 100 steps, 200 steps) on the tet
     bunny (35k) and on voxel hexahedra (the 24.9k-hex bunny, meshes/generate.sh bunny hexmid; the paper-size 199k-hex
-    run is bench/scenes.py's bunny_interact_hex row, hours on 2 cores).
+    run is bench/scenes.py's bunny_interact_hex row, hours on 2 cores);
+  - in the predictor group only, the first steps of the other backward Euler scenes: armadillo_scramble and
+    armadillo_crush_barrier (30 steps, meshes/generate.sh armadillo default), bunny_inside_out (30), octopus_fiber on
+    the test octopus (100) and cloth_drop_ours (200).
 """
 import argparse
 import csv
@@ -35,7 +39,6 @@ import datetime
 import json
 import os
 import re
-import statistics
 import subprocess
 import sys
 import time
@@ -74,6 +77,16 @@ SCENES = {
     "cylinder_pull nu 0.49 (Fig. 6)": ("cylinder_pull", ("cylinder", "default"), ["-nu", "0.49"], "dynamic"),
     "interaction, tets (Fig. 13)": ("bunny_interact", ("bunny", "default"), [], "interaction"),
     "interaction, hexahedra (Fig. 13)": ("bunny_interact", ("bunny", "hexmid"), [], "interaction"),
+    # the predictor group's other backward Euler scenes (their first steps; not in the lifting or filter groups)
+    "armadillo_scramble (Fig. 4), 30 steps": ("armadillo_scramble", ("armadillo", "default"), ["-steps", "30"],
+                                              "predictor"),
+    "armadillo_crush_barrier, 30 steps": ("armadillo_crush_barrier", ("armadillo", "default"), ["-steps", "30"],
+                                          "predictor"),
+    "bunny_inside_out (Fig. 5), 30 steps": ("bunny_inside_out", ("bunny", "default"), ["-steps", "30"], "predictor"),
+    "octopus_fiber (Fig. 9), test mesh, 100 steps": ("octopus_fiber", ("octopus", "test"), ["-steps", "100"],
+                                                     "predictor"),
+    "cloth_drop_ours (Table 2), 200 steps": ("cloth_drop_ours", ("cloth", "default"), ["-steps", "200"],
+                                             "predictor"),
 }
 # the filter study's variants of the after build: each filter (with -newton_exact_hessian, the default), and the
 # default filter without the exact Hessian near the solution
@@ -105,6 +118,8 @@ def scene_args(label):
     text = open(os.path.join(ROOT, "options", opts + ".yml")).read()
     if "target_file" in text:
         args += ["-target_file", msh[:-4] + ".targets"]
+    if "fiber_file" in text:
+        args += ["-fiber_file", msh[:-4] + ".fibers"]
     return args
 
 
@@ -143,7 +158,7 @@ def cmd_run(a):
     labels = [l for l in SCENES if not a.only or slug(l) in a.only.split(",") or l in a.only.split(",")]
     groups = a.groups.split(",")
     for label in labels:
-        if "lifting" in groups:
+        if "lifting" in groups and SCENES[label][3] != "predictor":
             for variant, binary, extra in (("before", before, before_extra), ("after", after, [])):
                 m = run_one(binary, label, variant, extra, a.timeout)
                 print("%s, %s: exit %s, %.0f s" % (label, variant, m["exit"], m["wall"]), flush=True)
@@ -153,7 +168,7 @@ def cmd_run(a):
         if "always" in groups and SCENES[label][3] == "dynamic":
             m = run_one(after, label, "always", ["-lift_increments", "always"], a.timeout)
             print("%s, -lift_increments always: exit %s, %.0f s" % (label, m["exit"], m["wall"]), flush=True)
-        if "predictor" in groups and SCENES[label][3] in ("dynamic", "interaction"):
+        if "predictor" in groups and SCENES[label][3] in ("dynamic", "interaction", "predictor"):
             for variant, value in PREDICTOR_STARTS:
                 m = run_one(after, label, variant, ["-predictor_acceleration", value], a.timeout)
                 print("%s, -predictor_acceleration %s: exit %s, %.0f s" % (label, value, m["exit"], m["wall"]),
@@ -246,7 +261,8 @@ def cmd_report(a):
                  datetime.datetime.utcnow().strftime("%Y-%m-%d %H:%M UTC"),
                  scenes.machine_line(RANKS), REFERENCE_TOL), ""]
     builds = set()
-    lines += ["## Before and after", "",
+    rows = []
+    head = ["## Before and after", "",
               "| scene | build | steps converged | Newton/step | solves/step | PCG/step | s/step | sub-steps | "
               "lifted solves (shortened) | time ratio | distance / tol | to reference / tol |",
               "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
@@ -271,13 +287,15 @@ def cmd_report(a):
         for name, run in (("before", before), ("after", after)):
             if run and "build" in run:
                 builds.add("%s: %s" % (name, run["build"]))
-            lines.append("| %s | %s | %s | %s | %s | %s | %s |" % (label, name, " | ".join(row_cells(run)),
+            rows.append("| %s | %s | %s | %s | %s | %s | %s |" % (label, name, " | ".join(row_cells(run)),
                                                                    lifted_counts(run) if run and run.get("rows") else "-",
                                                                    ratio if name == "after" else "",
                                                                    dist if name == "after" else "",
                                                                    to_reference.get(name, "-")))
-    lines += ["", "Builds: " + "; ".join(sorted(builds)) + ".", ""]
-    lines += ["## Lifting every backward Euler step", "",
+    if rows:
+        lines += head + rows + ["", "Builds: " + "; ".join(sorted(builds)) + ".", ""]
+    rows = []
+    head = ["## Lifting every backward Euler step", "",
               "The dynamic rows with -lift_increments always (every step's increment lifted; the default auto lifts a "
               "backward Euler step only where its supports moved alone would fail the alpha safeguard).", "",
               "| scene | lifting | steps converged | Newton/step | solves/step | PCG/step | s/step | sub-steps |",
@@ -285,9 +303,12 @@ def cmd_report(a):
     for label in SCENES:
         run, default = read_run(label, "always"), read_run(label, "after")
         if run:
-            lines.append("| %s | auto (default) | %s |" % (label, " | ".join(row_cells(default))))
-            lines.append("| %s | always | %s |" % (label, " | ".join(row_cells(run))))
-    lines += ["", "## The start of a backward Euler step", "",
+            rows.append("| %s | auto (default) | %s |" % (label, " | ".join(row_cells(default))))
+            rows.append("| %s | always | %s |" % (label, " | ".join(row_cells(run))))
+    if rows:
+        lines += head + rows + [""]
+    rows = []
+    head = ["## The start of a backward Euler step", "",
               "Each backward Euler scene started from the prediction x_n + dt v_n alone (-predictor_acceleration "
               "false) and also from the extrapolation of the last step's acceleration, x_n + dt v_n + dt^2 a_n "
               "(-predictor_acceleration true, the default), each taken where its total potential is lower and the "
@@ -313,10 +334,12 @@ def cmd_report(a):
             if run and "build" in run:
                 predictor_builds.add(run["build"])
             last = variant == PREDICTOR_STARTS[-1][0]
-            lines.append("| %s | %s | %s | %s | %s |" % (label, PREDICTOR_NAMES[variant], " | ".join(row_cells(run)),
+            rows.append("| %s | %s | %s | %s | %s |" % (label, PREDICTOR_NAMES[variant], " | ".join(row_cells(run)),
                                                          ratio if last else "", dist if last else ""))
-    lines += ["", "Builds: " + "; ".join(sorted(predictor_builds)) + "."]
-    lines += ["", "## Hessian filters (after build)", "",
+    if rows:
+        lines += head + rows + ["", "Builds: " + "; ".join(sorted(predictor_builds)) + ".", ""]
+    rows = []
+    head = ["## Hessian filters (after build)", "",
               "Each scene with each element Hessian filter (-psd_projection, each with the unfiltered Hessian after "
               "full-length updates, -newton_exact_hessian, on by default), and the default filter without it; the "
               "default filters are abs for static solves and clamp for backward Euler.", "",
@@ -326,8 +349,9 @@ def cmd_report(a):
         for f in FILTERS:
             run = read_run(label, "filter_" + slug(f))
             if run:
-                lines.append("| %s | %s | %s |" % (label, f, " | ".join(row_cells(run))))
-    lines.append("")
+                rows.append("| %s | %s | %s |" % (label, f, " | ".join(row_cells(run))))
+    if rows:
+        lines += head + rows + [""]
     scenes.write(a.out, lines)
 
 

@@ -287,6 +287,47 @@ def case_extrapolate():
                          % (k, hist[k]["energy"], after[0]["energy"] if after else "no next iterate"))
 
 
+def case_predictor_free_fall():
+    """-predictor_acceleration (backward Euler default): a body in free fall (the test cube, no supports, gravity g) has
+    backward Euler's exact solution x_n = X + g dt^2 n (n + 1) / 2, a rigid translation, and from step 2 on the start
+    x_n + dt v_n + dt^2 a_n is that solution (a_n = g), so every later step is converged at its start (0 updates,
+    converged_initial); from x_n + dt v_n alone (-predictor_acceleration false) each step misses by dt^2 g (9.8e-4,
+    above the tolerance 1e-2 L dt = 1.7e-4) and takes an update. Both runs end at the exact solution within the
+    tolerance. Restarted from the checkpoint after step 3, step 4 starts from the checkpointed acceleration and is
+    converged at its start too (a checkpoint without it would cost the update again)."""
+    steps, dt, g = 5, 1e-2, 9.81
+    base = ["-dm_plex_filename", mesh("cube"), "-energy", "iarap", "-E", "1e4", "-nu", "0.3", "-integrator", "beuler",
+            "-dt", str(dt), "-density", "1000", "-gravity", "0,0,-%g" % g, "-steps", str(steps)]
+    for tag, extra in (("fall_accel", []), ("fall_velocity", ["-predictor_acceleration", "false"]),
+                       ("fall_restart", None)):
+        if tag == "fall_restart":  # the first 3 steps, checkpointed at the end, then steps 4-5 from the checkpoint
+            run(base[:-1] + ["3", "-checkpoint_every", "3", "-checkpoint", out_base(tag) + ".ck.h5", "-output",
+                             out_base(tag + "_first")], tag=tag + "_first")
+            extra = ["-restart", out_base(tag) + ".ck.h5"]
+        run(base + extra + ["-output", out_base(tag), "-stats", out_base(tag) + ".csv"], tag=tag)
+        rows = stats(out_base(tag) + ".csv")
+        rest, _, x, _ = read_state(out_base(tag))
+        L = np.linalg.norm(rest.max(axis=0) - rest.min(axis=0))
+        exact = rest + np.array([0.0, 0.0, -g * dt * dt * steps * (steps + 1) / 2])
+        err = np.linalg.norm(x - exact, axis=1).max() / (1e-2 * L * dt)
+        updates = [int(r["newton_its"]) for r in rows]
+        reasons = [r["reason"] for r in rows]
+        print("%s: updates per step %s, reasons %s; distance to the exact solution %.2e tol" % (tag, updates, reasons,
+                                                                                               err))
+        if any(r not in CONVERGED for r in reasons):
+            fail("%s: a step did not converge: %s" % (tag, reasons))
+        if not err <= 1.0:
+            fail("%s: %.3g tolerances from backward Euler's exact free fall" % (tag, err))
+        later = [(int(r["step"]), int(r["newton_its"]), r["reason"]) for r in rows if int(r["step"]) >= 2]
+        if tag == "fall_velocity":
+            if any(u < 1 for _, u, _ in later):
+                fail("from x_n + dt v_n a step of the free fall took no update: %s" % later)
+        elif any(u != 0 or why != "converged_initial" for _, u, why in later):
+            fail("%s: the extrapolated start is the exact solution from step 2 on, yet %s" % (tag, later))
+        if tag == "fall_restart" and [int(r["step"]) for r in rows] != [4, 5]:
+            fail("the restart from step 3's checkpoint should run steps 4-5, ran %s" % [r["step"] for r in rows])
+
+
 CASES = {
     "safeguard_basic": lambda: case_safeguard("basic"),
     "safeguard_l2": lambda: case_safeguard("l2"),
@@ -296,4 +337,5 @@ CASES = {
     "multigrid_rule": case_multigrid_rule,
     "run_resources": case_run_resources,
     "extrapolate": case_extrapolate,
+    "predictor_free_fall": case_predictor_free_fall,
 }

@@ -86,6 +86,7 @@ PetscErrorCode writeCheckpoint(const solver::Simulation &sim, const core::Natura
             core::writeBlockDataset(f, "/velocities", vertices, velocities, 3) &&
             core::writeBlockDataset(f, "/accelerations", vertices, accelerations, 3) &&
             writeScalarAttribute(f, "acceleration", H5T_NATIVE_INT, sim.hasAcceleration() ? 1 : 0) &&
+            writeScalarAttribute(f, "velocity_is_motion", H5T_NATIVE_INT, sim.velocityIsMotion() ? 1 : 0) &&
             writeScalarAttribute(f, "step", H5T_NATIVE_LLONG, step) &&
             writeScalarAttribute(f, "time", H5T_NATIVE_DOUBLE, time) &&
             writeScalarAttribute(f, "load", H5T_NATIVE_DOUBLE, load) &&
@@ -111,7 +112,8 @@ PetscErrorCode readCheckpoint(const fem::Discretization &disc, const std::string
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   std::string err;
   long long step = 0, nv = 0, nc = 0;
-  int hasAcceleration = 0;  // attribute acceleration (absent in checkpoints from before it: none)
+  int accelFlags[2] = {0, 1};  // attributes acceleration and velocity_is_motion (absent in older checkpoints: 0, 1)
+  int &hasAcceleration = accelFlags[0];
   double scalars[2] = {0, 0};
   int memory[kMemoryFields];
   memoryToInts(solver::NewtonMemory{}, memory);  // the defaults, for attributes an older checkpoint lacks
@@ -141,9 +143,11 @@ PetscErrorCode readCheckpoint(const fem::Discretization &disc, const std::string
                  !readScalarAttribute(f, "num_vertices", H5T_NATIVE_LLONG, &nv) ||
                  !readScalarAttribute(f, "num_cells", H5T_NATIVE_LLONG, &nc)) {
         err = "checkpoint '" + path + "' is incomplete (missing attributes)";
-      } else if (H5Aexists(f, "acceleration") > 0 &&
-                 !readScalarAttribute(f, "acceleration", H5T_NATIVE_INT, &hasAcceleration)) {
-        err = "checkpoint '" + path + "' has a malformed attribute acceleration";
+      } else if ((H5Aexists(f, "acceleration") > 0 &&
+                  !readScalarAttribute(f, "acceleration", H5T_NATIVE_INT, &accelFlags[0])) ||
+                 (H5Aexists(f, "velocity_is_motion") > 0 &&
+                  !readScalarAttribute(f, "velocity_is_motion", H5T_NATIVE_INT, &accelFlags[1]))) {
+        err = "checkpoint '" + path + "' has a malformed attribute acceleration or velocity_is_motion";
       } else if (!readMemoryAttributes(f, memory)) {
         err = "checkpoint '" + path +
               "' has malformed attributes filter_backoff / filter_skip / filter_override / filter_exact_start";
@@ -160,7 +164,7 @@ PetscErrorCode readCheckpoint(const fem::Discretization &disc, const std::string
   PetscCallMPI(MPI_Bcast(&step, 1, MPI_LONG_LONG, 0, comm));
   PetscCallMPI(MPI_Bcast(scalars, 2, MPI_DOUBLE, 0, comm));
   PetscCallMPI(MPI_Bcast(memory, kMemoryFields, MPI_INT, 0, comm));
-  PetscCallMPI(MPI_Bcast(&hasAcceleration, 1, MPI_INT, 0, comm));
+  PetscCallMPI(MPI_Bcast(accelFlags, 2, MPI_INT, 0, comm));
   // Every rank reads its block of rows, then the rows move to the ranks that own those vertices.
   std::vector<PetscInt> natural, local;
   disc.diagnostics().ownedVertexIds(&natural, &local);
@@ -198,6 +202,7 @@ PetscErrorCode readCheckpoint(const fem::Discretization &disc, const std::string
   st->step = static_cast<PetscInt>(step);
   st->time = scalars[0];
   st->load = scalars[1];
+  st->velocityIsMotion = accelFlags[1] != 0;
   st->newton = solver::NewtonMemory{memory[0], memory[1], memory[2], memory[3]};  // memoryToInts' order
   PetscFunctionReturn(0);
 }

@@ -1,7 +1,8 @@
 // Checkpoint / restart (-checkpoint_every K, -checkpoint FILE, -restart FILE).
 // A checkpoint is one HDF5 file (written and read in parallel, core/h5_blocks.hpp) with the state in natural (gmsh) vertex
 // order: /positions, /velocities and /accelerations (the last step's, for -predictor_acceleration; zero where attribute
-// acceleration is 0: none to extrapolate; a checkpoint without them restarts with none)
+// acceleration is 0: none to extrapolate; a checkpoint without them restarts with none; attribute velocity_is_motion:
+// 0 where the velocities are a recovery from a synthetic start or an unconverged step's, solver::Simulation)
 // (vertices x 3), and the attributes step, time, load (parameter of the prescribed motion), filter_backoff,
 // filter_skip, filter_override and filter_exact_start (the Newton solver's memory, solver::NewtonMemory; a checkpoint
 // without them restarts with none),
@@ -27,6 +28,7 @@ PetscErrorCode readCheckpointOptions(const std::string &outputBase, CheckpointOp
 struct CheckpointState {
   std::vector<double> positions, velocities;  // per local vertex (v - vStart), x3; filled on the owned vertices
   std::vector<double> accelerations;          // likewise; empty: none to extrapolate
+  bool velocityIsMotion = true;               // attribute velocity_is_motion (absent: true)
   PetscInt step = 0;
   double time = 0.0, load = 0.0;
   solver::NewtonMemory newton;  // the Newton solver's memory (attributes filter_*; none if absent)

@@ -169,6 +169,7 @@ PetscErrorCode Simulation::startFromCoarse(double dt, double loadTarget, bool *u
     PetscCall(restrictTo(c, vPrev_, false, cs.v_));
     PetscCall(restrictTo(c, a_, false, cs.a_));  // its -predictor_acceleration extrapolates this level's a_n
     cs.haveAccel_ = haveAccel_;
+    cs.velocityIsMotion_ = velocityIsMotion_;
   }
   cs.currentStep_ = currentStep_;
   cs.coarseWork_ = NewtonResult();

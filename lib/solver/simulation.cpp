@@ -178,11 +178,12 @@ PetscErrorCode Simulation::applyInitialState() {
 }
 
 PetscErrorCode Simulation::resume(const std::vector<double> &positions, const std::vector<double> &velocities,
-                                  const std::vector<double> &accelerations, PetscInt completedStep, double time,
-                                  double load, const NewtonMemory &memory) {
+                                  const std::vector<double> &accelerations, bool velocityIsMotion,
+                                  PetscInt completedStep, double time, double load, const NewtonMemory &memory) {
   PetscFunctionBeginUser;
   const int R = static_cast<int>(disc_->dofsPerVertex());
   haveAccel_ = !accelerations.empty();
+  velocityIsMotion_ = velocityIsMotion;
   PetscInt lo;
   PetscScalar *x, *v, *a;
   PetscCall(VecGetOwnershipRange(x_, &lo, nullptr));
@@ -239,10 +240,10 @@ PetscErrorCode Simulation::localAcceleration(Vec aLocal) const {
 // the barrier) rules it out. With -predictor_acceleration (on by default) the extrapolation of the last step's
 // acceleration, x^ = x~ + dt^2 a_n, is a third candidate: backward Euler's solution is x_n + dt v_n + dt^2 a_{n+1}, so
 // where the motion's acceleration changes little from step to step (a body swinging or vibrating, supports or shape
-// targets following a smooth path) x^ is much closer to it than x~ (the Fig. 13 interaction on 24.9k hexahedra, steps
-// 101-170: 2-4x closer at the vertex farthest off, 4-8x in the rms; bench/newton_work.py, group predictor). The lowest
-// potential among the candidates below x_n's that the safeguard accepts is taken. Energies at the previous load; the
-// load increment follows in solveToLoad.
+// targets following a smooth path; free fall, where it is exact) x^ is much closer to it than x~ (the Fig. 13
+// interaction on the 24.9k-hex bunny: 1.01 Newton updates per step against 1.50; bench/results/
+// newton_work_predictor.md). The lowest potential among the candidates below x_n's that the safeguard accepts is
+// taken. Energies at the previous load; the load increment follows in solveToLoad.
 PetscErrorCode Simulation::startFromPrediction() {
   PetscFunctionBeginUser;
   struct Candidate {
@@ -424,7 +425,7 @@ PetscErrorCode Simulation::advance(double dt, double loadTarget, int depth, Newt
       if (dominated) newton_.overrideFilter(opts_.beulerStartProjection);  // for the rest of the run
     }
   }
-  const bool fromSyntheticState = syntheticStart_;  // its velocity after the step is no motion to extrapolate
+  const bool fromSyntheticState = syntheticStart_;  // its velocity after the step is the recovery, not motion
   PetscCall(solveToLoad(loadTarget, acc, ok, reason));
   if (*ok) {
     acc->mollifierBandCells = 0;  // a half step that recovered a failed attempt: nothing held
@@ -434,7 +435,8 @@ PetscErrorCode Simulation::advance(double dt, double loadTarget, int depth, Newt
       PetscCall(VecScale(v_, 1.0 / dt));
       PetscCall(VecWAXPY(a_, -1.0, vPrev_, v_));  // a_{n+1} = (v_{n+1} - v_n) / dt
       PetscCall(VecScale(a_, 1.0 / dt));
-      haveAccel_ = !fromSyntheticState;
+      haveAccel_ = velocityIsMotion_ && !fromSyntheticState;  // v_n and v_{n+1} both the body's motion
+      velocityIsMotion_ = !fromSyntheticState;
     }
     PetscFunctionReturn(0);
   }
@@ -470,7 +472,7 @@ PetscErrorCode Simulation::advance(double dt, double loadTarget, int depth, Newt
       PetscCall(VecWAXPY(v_, -1.0, xPrev_, x_));
       PetscCall(VecScale(v_, 1.0 / dt));
     }
-    haveAccel_ = false;  // an unconverged step's motion is not extrapolated
+    haveAccel_ = velocityIsMotion_ = false;  // an unconverged step's motion is not extrapolated
     PetscCall(setLoad(loadTarget));
     PetscFunctionReturn(0);
   }

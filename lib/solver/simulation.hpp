@@ -125,9 +125,12 @@ class Simulation {
   // Local copy of the velocities, 0 on the Dirichlet vertices (caller restores with DMRestoreLocalVector).
   PetscErrorCode localVelocity(Vec vLocal) const;
   // The last step's acceleration a_n = (v_n - v_{n-1}) / dt, local copy as localVelocity; hasAcceleration() is false
-  // where there is none to extrapolate (before the first step, after a synthetic start's step or an unconverged one).
+  // where there is none to extrapolate: before the first step, and where v_n or v_{n-1} is not the body's motion
+  // (velocityIsMotion(): false after a scramble, invert or collapse start's first step, which recovers the body, and
+  // after a step that did not converge).
   PetscErrorCode localAcceleration(Vec aLocal) const;
   bool hasAcceleration() const { return haveAccel_; }
+  bool velocityIsMotion() const { return velocityIsMotion_; }
   PetscInt completedSteps() const { return completedSteps_; }
   double time() const { return time_; }
 
@@ -136,10 +139,11 @@ class Simulation {
 
   // Continue from a saved state (checkpoint): positions, velocities and accelerations of this rank's vertices by local
   // vertex index (v - vStart, 3 values each; only the owned free components are read; accelerations empty: none),
-  // the last completed step, its time, the load parameter and the Newton solver's memory. Collective.
+  // whether the velocities are the body's motion, the last completed step, its time, the load parameter and the
+  // Newton solver's memory. Collective.
   PetscErrorCode resume(const std::vector<double> &positions, const std::vector<double> &velocities,
-                        const std::vector<double> &accelerations, PetscInt completedStep, double time, double load,
-                        const NewtonMemory &memory);
+                        const std::vector<double> &accelerations, bool velocityIsMotion, PetscInt completedStep,
+                        double time, double load, const NewtonMemory &memory);
 
  private:
   PetscErrorCode applyInitialState();
@@ -164,6 +168,7 @@ class Simulation {
   Vec x_ = nullptr, v_ = nullptr, xPrev_ = nullptr, vPrev_ = nullptr, xTilde_ = nullptr;
   Vec a_ = nullptr, xTry_ = nullptr;  // the last step's acceleration; the extrapolated start (startFromPrediction)
   bool haveAccel_ = false;            // a_ holds an acceleration to extrapolate
+  bool velocityIsMotion_ = true;      // v_ is the body's motion (hasAcceleration's comment)
   PetscLogStage solveStage_ = -1;
   PetscInt completedSteps_ = 0;
   double time_ = 0.0;
