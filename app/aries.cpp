@@ -175,7 +175,8 @@ PetscErrorCode run(int *exitCode) {
     if (st.step > simOpts.steps)
       SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "checkpoint '%s' is at step %d, beyond -steps %d",
               ckOpts.restart.c_str(), (int)st.step, (int)simOpts.steps);
-    PetscCall(sim.resume(st.positions, st.velocities, st.accelerations, st.velocityIsMotion, st.step, st.time, st.load, st.newton));
+    PetscCall(sim.resume(st.positions, st.velocities, st.accelerations, st.velocityIsMotion, st.step, st.time, st.load,
+                         st.newton));
     resumeStep = st.step;
     PetscCall(PetscPrintf(comm, "aries: restarting from '%s' after step %d (t = %g)%s\n", ckOpts.restart.c_str(),
                           (int)st.step, st.time, st.step == simOpts.steps ? ": already at the last step, nothing to do" : ""));

@@ -226,6 +226,22 @@ def tolerance(run, label):
     return (1e-4 if static else 1e-2 * dt) * run["L"]
 
 
+def time_ratio(first, second):
+    """Seconds per step of `first` over those of `second` ("-" unless both have stats rows)."""
+    if not (first and second and first["rows"] and second["rows"]):
+        return "-"
+    return "%.2fx" % (averages(first)["seconds"] / averages(second)["seconds"])
+
+
+def distance_over_tol(first, second, label, tol_run):
+    """The largest vertex distance between two runs' final states over tol_run's Newton tolerance ("-" if unreadable)."""
+    try:
+        d = np.linalg.norm(final_positions(first) - final_positions(second), axis=1).max()
+        return "%.2g" % (d / tolerance(tol_run, label))
+    except (OSError, KeyError, IndexError, ValueError, TypeError):
+        return "-"
+
+
 def lifted_counts(run):
     """Lifted linear solves of the run and how many of them the safeguard or the merit test shortened (lambda < 1)."""
     path = os.path.join(run["dir"], "run_newton.csv") if run and "dir" in run else None
@@ -263,27 +279,21 @@ def cmd_report(a):
     builds = set()
     rows = []
     head = ["## Before and after", "",
-              "| scene | build | steps converged | Newton/step | solves/step | PCG/step | s/step | sub-steps | "
-              "lifted solves (shortened) | time ratio | distance / tol | to reference / tol |",
-              "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+            "| scene | build | steps converged | Newton/step | solves/step | PCG/step | s/step | sub-steps | "
+            "lifted solves (shortened) | time ratio | distance / tol | to reference / tol |",
+            "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for label in SCENES:
         before, after = read_run(label, "before"), read_run(label, "after")
         if not before and not after:
             continue
-        ratio = dist = "-"
+        ratio, dist = time_ratio(before, after), "-"
         reference = read_run(label, "reference")
         to_reference = {}
-        if before and after and before["rows"] and after["rows"]:
-            ratio = "%.2fx" % (averages(before)["seconds"] / averages(after)["seconds"])
-            try:
-                d = np.linalg.norm(final_positions(before) - final_positions(after), axis=1).max()
-                dist = "%.2g" % (d / tolerance(after, label))
-                if reference and reference.get("exit") == 0:
-                    for name, run in (("before", before), ("after", after)):
-                        d = np.linalg.norm(final_positions(run) - final_positions(reference), axis=1).max()
-                        to_reference[name] = "%.2g" % (d / tolerance(after, label))
-            except (OSError, KeyError, IndexError, ValueError):
-                dist = "-"
+        if ratio != "-":
+            dist = distance_over_tol(before, after, label, after)
+            if reference and reference.get("exit") == 0:
+                for name, run in (("before", before), ("after", after)):
+                    to_reference[name] = distance_over_tol(run, reference, label, after)
         for name, run in (("before", before), ("after", after)):
             if run and "build" in run:
                 builds.add("%s: %s" % (name, run["build"]))
@@ -296,10 +306,10 @@ def cmd_report(a):
         lines += head + rows + ["", "Builds: " + "; ".join(sorted(builds)) + ".", ""]
     rows = []
     head = ["## Lifting every backward Euler step", "",
-              "The dynamic rows with -lift_increments always (every step's increment lifted; the default auto lifts a "
-              "backward Euler step only where its supports moved alone would fail the alpha safeguard).", "",
-              "| scene | lifting | steps converged | Newton/step | solves/step | PCG/step | s/step | sub-steps |",
-              "|---|---|---:|---:|---:|---:|---:|---:|"]
+            "The dynamic rows with -lift_increments always (every step's increment lifted; the default auto lifts a "
+            "backward Euler step only where its supports moved alone would fail the alpha safeguard).", "",
+            "| scene | lifting | steps converged | Newton/step | solves/step | PCG/step | s/step | sub-steps |",
+            "|---|---|---:|---:|---:|---:|---:|---:|"]
     for label in SCENES:
         run, default = read_run(label, "always"), read_run(label, "after")
         if run:
@@ -309,27 +319,21 @@ def cmd_report(a):
         lines += head + rows + [""]
     rows = []
     head = ["## The start of a backward Euler step", "",
-              "Each backward Euler scene started from the prediction x_n + dt v_n alone (-predictor_acceleration "
-              "false) and also from the extrapolation of the last step's acceleration, x_n + dt v_n + dt^2 a_n "
-              "(-predictor_acceleration true, the default), each taken where its total potential is lower and the "
-              "safeguard accepts it. Time ratio = s/step without / with; distance = the largest vertex distance "
-              "between the two runs' final states over the Newton tolerance (1e-2 L dt).", "",
-              "| scene | start | steps converged | Newton/step | solves/step | PCG/step | s/step | sub-steps | "
-              "time ratio | distance / tol |",
-              "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+            "Each backward Euler scene started from the prediction x_n + dt v_n alone (-predictor_acceleration "
+            "false) and also from the extrapolation of the last step's acceleration, x_n + dt v_n + dt^2 a_n "
+            "(-predictor_acceleration true, the default), each taken where its total potential is lower and the "
+            "safeguard accepts it. Time ratio = s/step without / with; distance = the largest vertex distance "
+            "between the two runs' final states over the Newton tolerance (1e-2 L dt).", "",
+            "| scene | start | steps converged | Newton/step | solves/step | PCG/step | s/step | sub-steps | "
+            "time ratio | distance / tol |",
+            "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
     predictor_builds = set()
     for label in SCENES:
         runs = [read_run(label, v) for v, _ in PREDICTOR_STARTS]
         if not any(runs):
             continue
-        ratio = dist = "-"
-        if all(r and r["rows"] for r in runs):
-            ratio = "%.2fx" % (averages(runs[0])["seconds"] / averages(runs[1])["seconds"])
-            try:
-                d = np.linalg.norm(final_positions(runs[0]) - final_positions(runs[1]), axis=1).max()
-                dist = "%.2g" % (d / tolerance(runs[1], label))
-            except (OSError, KeyError, IndexError, ValueError):
-                pass
+        ratio = time_ratio(runs[0], runs[1])
+        dist = distance_over_tol(runs[0], runs[1], label, runs[1]) if ratio != "-" else "-"
         for (variant, _), run in zip(PREDICTOR_STARTS, runs):
             if run and "build" in run:
                 predictor_builds.add(run["build"])
@@ -340,11 +344,11 @@ def cmd_report(a):
         lines += head + rows + ["", "Builds: " + "; ".join(sorted(predictor_builds)) + ".", ""]
     rows = []
     head = ["## Hessian filters (after build)", "",
-              "Each scene with each element Hessian filter (-psd_projection, each with the unfiltered Hessian after "
-              "full-length updates, -newton_exact_hessian, on by default), and the default filter without it; the "
-              "default filters are abs for static solves and clamp for backward Euler.", "",
-              "| scene | filter | steps converged | Newton/step | solves/step | PCG/step | s/step | sub-steps |",
-              "|---|---|---:|---:|---:|---:|---:|---:|"]
+            "Each scene with each element Hessian filter (-psd_projection, each with the unfiltered Hessian after "
+            "full-length updates, -newton_exact_hessian, on by default), and the default filter without it; the "
+            "default filters are abs for static solves and clamp for backward Euler.", "",
+            "| scene | filter | steps converged | Newton/step | solves/step | PCG/step | s/step | sub-steps |",
+            "|---|---|---:|---:|---:|---:|---:|---:|"]
     for label in FILTER_SCENES:
         for f in FILTERS:
             run = read_run(label, "filter_" + slug(f))

@@ -298,12 +298,11 @@ def case_predictor_free_fall():
     steps, dt, g = 5, 1e-2, 9.81
     base = ["-dm_plex_filename", mesh("cube"), "-energy", "iarap", "-E", "1e4", "-nu", "0.3", "-integrator", "beuler",
             "-dt", str(dt), "-density", "1000", "-gravity", "0,0,-%g" % g, "-steps", str(steps)]
+    checkpoint = out_base("fall_restart") + ".ck.h5"  # the first 3 steps, checkpointed at their end
+    run(base[:-1] + ["3", "-checkpoint_every", "3", "-checkpoint", checkpoint, "-output", out_base("fall_first")],
+        tag="fall_first")
     for tag, extra in (("fall_accel", []), ("fall_velocity", ["-predictor_acceleration", "false"]),
-                       ("fall_restart", None)):
-        if tag == "fall_restart":  # the first 3 steps, checkpointed at the end, then steps 4-5 from the checkpoint
-            run(base[:-1] + ["3", "-checkpoint_every", "3", "-checkpoint", out_base(tag) + ".ck.h5", "-output",
-                             out_base(tag + "_first")], tag=tag + "_first")
-            extra = ["-restart", out_base(tag) + ".ck.h5"]
+                       ("fall_restart", ["-restart", checkpoint])):
         run(base + extra + ["-output", out_base(tag), "-stats", out_base(tag) + ".csv"], tag=tag)
         rows = stats(out_base(tag) + ".csv")
         rest, _, x, _ = read_state(out_base(tag))

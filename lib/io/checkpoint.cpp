@@ -178,7 +178,8 @@ PetscErrorCode readCheckpoint(const fem::Discretization &disc, const std::string
   hid_t f = core::openParallelFile(comm, path);
   bool ok = f >= 0 && core::readBlockDataset(f, "/positions", vertices, 3, &positions) &&
             core::readBlockDataset(f, "/velocities", vertices, 3, &velocities);
-  const bool accelOk = !ok || !hasAcceleration || core::readBlockDataset(f, "/accelerations", vertices, 3, &accelerations);
+  const bool accelOk =
+      !ok || !hasAcceleration || core::readBlockDataset(f, "/accelerations", vertices, 3, &accelerations);
   if (f >= 0) H5Fclose(f);
   H5Eset_auto2(H5E_DEFAULT, func, data);
   PetscCall(core::collectiveCheck(comm, !ok, "checkpoint '" + path + "' has missing or malformed /positions or /velocities"));
