@@ -2,7 +2,7 @@
 """Table 1 / Table 2 rows for the paper's scenes at the paper's sizes, beside the paper's numbers.
 
 usage: bench/scenes.py [--table 1|2] [--steps K] [--ranks N] [--build DIR] [--out FILE.md] [--resume K] [--reuse]
-                       [SCENE ...]
+                       [--options 'ARIES OPTIONS'] [--ranges A-B,...] [SCENE ...]
 
 Runs each scene's options file (options/*.yml, meshes generated on demand) with its paper-size mesh and writes a
 markdown table. Table 1 (volumetric): elements, E, nu, dt, steps, Newton/step, solves/step, PCG/step, s/step, failed
@@ -16,8 +16,11 @@ is given again, and so does a run stopped at --steps K short of the scene's leng
 removed. --reuse reads a finished scene back (its work directory holds stats for every step asked for, and no
 checkpoint unless the run stopped at --steps K short of the scene's length) instead of running it again; the table
 names the aries build of each row read back or continued from a checkpoint (a table can so be completed scene by
-scene across sessions). Default output: bench/results/table<N>.md; its header names the command, the date and the
-commit the runs were made at. Use
+scene across sessions). --options adds aries options to every scene's command line (after the scene's own; e.g.
+'-predictor_acceleration false' for a row without an option's effect; give it its own --work, since a checkpoint or a
+stats file in the work directory is that run's). --ranges A-B,C-D adds a table of the same averages over each range of
+steps (the phases of a scene: e.g. the Fig. 13 interaction's 1-55, 56-100 and 101-200). Default output:
+bench/results/table<N>.md; its header names the command, the date and the commit the runs were made at. Use
 /usr/bin/python3 (Debian's).
 """
 import argparse
@@ -215,6 +218,31 @@ def write(path, lines):
     print("wrote " + path)
 
 
+def parse_ranges(text):
+    """'A-B,C-D' -> [(A, B), (C, D)], each 1 <= A <= B."""
+    ranges = []
+    for item in text.split(",") if text else []:
+        m = re.fullmatch(r"(\d+)-(\d+)", item.strip())
+        if not m or not 1 <= int(m.group(1)) <= int(m.group(2)):
+            sys.exit("scenes.py: --ranges: '%s' is not a range of steps A-B with 1 <= A <= B" % item)
+        ranges.append((int(m.group(1)), int(m.group(2))))
+    return ranges
+
+
+def range_rows(name, st, ranges):
+    """The table rows of one scene's averages over each range of steps (the steps of the range that were run)."""
+    rows = []
+    for lo, hi in ranges:
+        part = [r for r in st if lo <= int(r["step"]) <= hi]
+        if part:
+            newton, solves, pcg, secs, failed = averages(part)
+            rows.append("| %s | %d-%d | %d | %.2f | %.2f | %.1f | %.3f | %d |"
+                        % (name, lo, hi, len(part), newton, solves, pcg, secs, failed))
+        else:
+            rows.append("| %s | %d-%d | 0 | - | - | - | - | - |" % (name, lo, hi))
+    return rows
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("scenes", nargs="*")
@@ -228,7 +256,15 @@ def main():
                     help="checkpoint every K steps and continue a scene cut short from its last checkpoint (0: off)")
     ap.add_argument("--reuse", action="store_true",
                     help="read a finished scene (stats for every step, no checkpoint) back instead of running it again")
+    ap.add_argument("--options", default="", metavar="'ARIES OPTIONS'",
+                    help="aries options added to every scene's command line, after the scene's own")
+    ap.add_argument("--ranges", default="", metavar="A-B,...",
+                    help="also average over these ranges of steps (a table of its own)")
     a = ap.parse_args()
+    added = shlex.split(a.options)
+    if added and not added[0].startswith("-"):
+        sys.exit("scenes.py: --options '%s' must begin with an aries option (-name)" % a.options)
+    ranges = parse_ranges(a.ranges)
     catalog = SCENES if a.table == 1 else CLOTH
     names = a.scenes or list(catalog)
     for n in names:
@@ -239,6 +275,7 @@ def main():
     if os.geteuid() == 0:
         env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
     reused = []
+    by_range = []  # --ranges: each scene's rows, a table after the main one
     # checked before the runs: a commit made while they run must not be credited with their numbers
     date = "%s UTC at %s" % (datetime.datetime.utcnow().strftime("%Y-%m-%d %H:%M"), commit_line())
     command = " ".join(["bench/scenes.py"] + [shlex.quote(x) for x in sys.argv[1:]])  # as given (--resume, --out)
@@ -264,8 +301,10 @@ def main():
             with open(msh[:-4] + ".json") as fh:
                 info = json.load(fh)
                 elems = info["tets"] if "tets" in info else info["hexes"]
+            extra = extra + added
             st, base, build = run_scene(a, env, n, opts, extra, msh, paper[4])
             newton, solves, pcg, secs, failed = averages(st)
+            by_range += range_rows(n, st, ranges)
             if build:
                 reused.append("%s (%s)" % (n, build))
             if n in RENDER:
@@ -301,8 +340,10 @@ def main():
                "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
         for n in names:
             opts, extra, label, paper = CLOTH[n]
+            extra = extra + added
             st, base, build = run_scene(a, env, n, opts, extra + ["-dm_plex_gmsh_spacedim", "3"], msh, paper[3])
             newton, solves, pcg, secs, failed = averages(st)
+            by_range += range_rows(n, st, ranges)
             if build:
                 reused.append("%s (%s)" % (n, build))
             out.append("| %s | %s | %s | %s | %s | %d / %d | %.2f | %.2f | %.1f | %.3f | %d | %.1f | %.1f | %.2f |"
@@ -315,6 +356,10 @@ def main():
                             "--title", "%s (step %d)" % (label, len(st))], check=False)
     out.append("")
     out += steps_note
+    if ranges:
+        out += ["## By range of steps\n", "The same averages over each range of steps (of the steps run in it).\n",
+                "| scene | steps | run | Newton/step | solves/step | PCG/step | s/step | failed steps |",
+                "|---|---|---:|---:|---:|---:|---:|---:|"] + by_range + [""]
     if reused:
         out.append("Rows read back from an earlier run of this script (`--reuse`) or continued from a checkpoint "
                    "(`--resume`), with the aries builds that ran them (and the step each took over at): %s.\n"

@@ -294,7 +294,8 @@ def case_predictor_free_fall():
     converged_initial); from x_n + dt v_n alone (-predictor_acceleration false) each step misses by dt^2 g (9.8e-4,
     above the tolerance 1e-2 L dt = 1.7e-4) and takes an update. Both runs end at the exact solution within the
     tolerance. Restarted from the checkpoint after step 3, step 4 starts from the checkpointed acceleration and is
-    converged at its start too (a checkpoint without it would cost the update again)."""
+    converged at its start too (a checkpoint without it would cost the update again). -info names each step's start:
+    x_n in step 1 (from rest x~ = x_n, no lower potential), then x~ + dt^2 a_n, or x~ without the option."""
     steps, dt, g = 5, 1e-2, 9.81
     base = ["-dm_plex_filename", mesh("cube"), "-energy", "iarap", "-E", "1e4", "-nu", "0.3", "-integrator", "beuler",
             "-dt", str(dt), "-density", "1000", "-gravity", "0,0,-%g" % g, "-steps", str(steps)]
@@ -303,7 +304,15 @@ def case_predictor_free_fall():
         tag="fall_first")
     for tag, extra in (("fall_accel", []), ("fall_velocity", ["-predictor_acceleration", "false"]),
                        ("fall_restart", ["-restart", checkpoint])):
-        run(base + extra + ["-output", out_base(tag), "-stats", out_base(tag) + ".csv"], tag=tag)
+        log, _ = run(base + extra + ["-output", out_base(tag), "-stats", out_base(tag) + ".csv", "-info", ":sys"],
+                     tag=tag)
+        taken = dict(re.findall(r"\[0\] <sys> startFromPrediction\(\): step (\d+) start: (x_n|x~ \+ dt\^2 a_n|x~) \(",
+                                log))
+        first = 4 if tag == "fall_restart" else 1
+        want = {str(k): "x_n" if k == 1 else "x~" if tag == "fall_velocity" else "x~ + dt^2 a_n"
+                for k in range(first, steps + 1)}
+        if taken != want:
+            fail("%s: -info should name the starts %s, named %s" % (tag, want, taken))
         rows = stats(out_base(tag) + ".csv")
         rest, _, x, _ = read_state(out_base(tag))
         L = np.linalg.norm(rest.max(axis=0) - rest.min(axis=0))

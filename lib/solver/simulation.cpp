@@ -262,16 +262,26 @@ PetscErrorCode Simulation::startFromPrediction() {
   Candidate order[2] = {prediction, extrapolated};
   if (extrapolated.energy < prediction.energy) std::swap(order[0], order[1]);
   std::vector<double> ref;
+  // -info names the start each step took and the candidates the safeguard turned down (docs/options.md)
+  const auto label = [this](const Candidate &c) { return c.x == xTilde_ ? "x~" : "x~ + dt^2 a_n"; };
+  const char *taken = "x_n";
   for (const Candidate &c : order) {
     if (!(c.energy < eCur)) continue;  // NaN and infinite energies too
     if (ref.empty()) PetscCall(newton_.alphasAt(x_, &ref));
     bool ok = false;
     PetscCall(newton_.alphaAcceptable(c.x, ref, &ok));
-    if (ok) {
-      PetscCall(VecCopy(c.x, x_));
-      break;
+    if (!ok) {
+      PetscCall(PetscInfo(nullptr, "step %" PetscInt_FMT " start: %s rejected by the alpha safeguard\n",
+                          completedSteps_ + 1, label(c)));
+      continue;
     }
+    PetscCall(VecCopy(c.x, x_));
+    taken = label(c);
+    break;
   }
+  PetscCall(PetscInfo(nullptr,
+                      "step %" PetscInt_FMT " start: %s (potential x_n %.10g, x~ %.10g, x~ + dt^2 a_n %.10g)\n",
+                      completedSteps_ + 1, taken, (double)eCur, (double)prediction.energy, (double)extrapolated.energy));
   PetscFunctionReturn(0);
 }
 
