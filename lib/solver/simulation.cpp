@@ -98,9 +98,12 @@ PetscErrorCode Simulation::setup(fem::Discretization &disc, const SimulationOpti
   PetscCall(newton_.setup(disc, opts_.newton, dynamic, opts.dt));
   PetscCall(DMCreateGlobalVector(disc.dm(), &x_));
   PetscCall(PetscObjectSetName((PetscObject)x_, "positions"));
-  for (Vec *v : {&v_, &xPrev_, &vPrev_, &xTilde_, &a_, &xTry_}) PetscCall(VecDuplicate(x_, v));
+  for (Vec *v : {&v_, &xPrev_, &vPrev_, &xTilde_}) PetscCall(VecDuplicate(x_, v));
+  if (dynamic) {  // the last step's acceleration and the extrapolated start: backward Euler only (startFromPrediction)
+    for (Vec *v : {&a_, &xTry_}) PetscCall(VecDuplicate(x_, v));
+    PetscCall(VecSet(a_, 0.0));
+  }
   PetscCall(VecSet(v_, 0.0));
-  PetscCall(VecSet(a_, 0.0));
   PetscCall(disc.restPositions(x_));
   fem::StepState start;
   start.dt = dynamic ? opts.dt : 0.0;
@@ -182,26 +185,26 @@ PetscErrorCode Simulation::resume(const std::vector<double> &positions, const st
                                   PetscInt completedStep, double time, double load, const NewtonMemory &memory) {
   PetscFunctionBeginUser;
   const int R = static_cast<int>(disc_->dofsPerVertex());
-  haveAccel_ = !accelerations.empty();
+  haveAccel_ = a_ && !accelerations.empty();  // a static run has none (and no a_)
   velocityIsMotion_ = velocityIsMotion;
   PetscInt lo;
-  PetscScalar *x, *v, *a;
+  PetscScalar *x, *v, *a = nullptr;
   PetscCall(VecGetOwnershipRange(x_, &lo, nullptr));
   PetscCall(VecGetArray(x_, &x));
   PetscCall(VecGetArray(v_, &v));
-  PetscCall(VecGetArray(a_, &a));
+  if (a_) PetscCall(VecGetArray(a_, &a));
   disc_->kinematics().forEachOwnedFreeVertex([&](PetscInt local, PetscInt, const PetscInt *rows, const Eigen::Vector3d &) {
     for (int i = 0; i < R; ++i)
       if (rows[i] >= 0) {
         const size_t k = 3 * static_cast<size_t>(local) + i;
         x[rows[i] - lo] = positions[k];
         v[rows[i] - lo] = velocities[k];
-        a[rows[i] - lo] = haveAccel_ ? accelerations[k] : 0.0;
+        if (a) a[rows[i] - lo] = haveAccel_ ? accelerations[k] : 0.0;
       }
   });
   PetscCall(VecRestoreArray(x_, &x));
   PetscCall(VecRestoreArray(v_, &v));
-  PetscCall(VecRestoreArray(a_, &a));
+  if (a_) PetscCall(VecRestoreArray(a_, &a));
   fem::StepState resumed = disc_->step();
   resumed.load = load;
   resumed.time = time;
@@ -230,7 +233,7 @@ PetscErrorCode Simulation::localVelocity(Vec vLocal) const {
 PetscErrorCode Simulation::localAcceleration(Vec aLocal) const {
   PetscFunctionBeginUser;
   PetscCall(VecZeroEntries(aLocal));
-  PetscCall(DMGlobalToLocal(disc_->dm(), a_, INSERT_VALUES, aLocal));
+  if (a_) PetscCall(DMGlobalToLocal(disc_->dm(), a_, INSERT_VALUES, aLocal));  // static runs: zero
   PetscFunctionReturn(0);
 }
 

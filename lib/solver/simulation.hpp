@@ -166,7 +166,7 @@ class Simulation {
   SimulationOptions opts_;
   NewtonSolver newton_;
   Vec x_ = nullptr, v_ = nullptr, xPrev_ = nullptr, vPrev_ = nullptr, xTilde_ = nullptr;
-  Vec a_ = nullptr, xTry_ = nullptr;  // the last step's acceleration; the extrapolated start (startFromPrediction)
+  Vec a_ = nullptr, xTry_ = nullptr;  // backward Euler: the last acceleration; the extrapolated start
   bool haveAccel_ = false;            // a_ holds an acceleration to extrapolate
   bool velocityIsMotion_ = true;      // v_ is the body's motion (hasAcceleration's comment)
   PetscLogStage solveStage_ = -1;
