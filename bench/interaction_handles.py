@@ -175,14 +175,11 @@ def slow_steps(work, stats):
 
 
 def phase_averages(stats):
+    """(steps, Newton/step, solves/step) over each phase's steps that were run (scenes.averages), None for none."""
     out = []
     for a, b in PHASES:
         rows = [r for r in stats if a <= int(r["step"]) <= b]
-        if not rows:
-            out.append(None)
-            continue
-        out.append((len(rows), np.mean([int(r["newton_its"]) for r in rows]),
-                    np.mean([int(r["linear_solves"]) for r in rows])))
+        out.append((len(rows),) + scenes.averages(rows)[:2] if rows else None)
     return out
 
 
