@@ -16,7 +16,8 @@ table says how many). --variants picks the runs of each mesh (default: filtered 
 adaptive filter: -psd_projection abs / adaptive in place of backward Euler's clamp; element filter: -psd_scope
 element, each element's whole Hessian clamped instead of each quadrature point's; no exact Hessian:
 -newton_exact_hessian false, every system filtered; density 100, density 1000: the scene's density 10 raised;
-handles 0.03: the two handles pushed 0.03 into the cheeks in place of the scene's 0.06).
+handles 0.03: the two handles pushed 0.03 into the cheeks in place of the scene's 0.06; surface handles: the two
+handles hold the body's boundary vertices in their boxes only, -bc_box_<k>_surface).
 Each run lives in out/interaction_handles/<mesh>_<variant>/ with its stats, Newton history and output; a run whose
 directory holds the same command line and a stats row for every step asked for is read back, not run again. Use
 /usr/bin/python3.
@@ -65,7 +66,10 @@ VARIANTS = {"filtered start": ["-newton_exact_start", "false"], "exact start": [
             "element filter": ["-psd_scope", "element"], "no exact Hessian": ["-newton_exact_hessian", "false"],
             "density 100": ["-density", "100"], "density 1000": ["-density", "1000"],
             # the handles pushed half as deep (0.03 into each cheek in place of 0.06): less crushing at their edges
-            "handles 0.03": ["-bc_box_2_translate", "0,0.03,0", "-bc_box_3_translate", "0,-0.03,0"]}
+            "handles 0.03": ["-bc_box_2_translate", "0,0.03,0", "-bc_box_3_translate", "0,-0.03,0"],
+            # the handles hold the body's surface in their boxes only (-bc_box_<k>_surface): they push the skin of
+            # the cheeks and leave the interior free, instead of moving the box's whole volume through the body
+            "surface handles": ["-bc_box_2_surface", "true", "-bc_box_3_surface", "true"]}
 DEFAULT_VARIANTS = "filtered start,exact start"
 
 
@@ -246,7 +250,9 @@ def main():
               "element's whole Hessian clamped in place of each quadrature point's; no exact Hessian: "
               "`-newton_exact_hessian false`, every Newton system filtered by clamp; density 100 / 1000: `-density`, "
               "the scene's 10 raised; handles 0.03: the handles pushed 0.03 into the cheeks in place of 0.06, "
-              "`-bc_box_2_translate 0,0.03,0 -bc_box_3_translate 0,-0.03,0`)" % OUTPUT_EVERY]
+              "`-bc_box_2_translate 0,0.03,0 -bc_box_3_translate 0,-0.03,0`; surface handles: the handles hold "
+              "the body's boundary vertices in their boxes only, `-bc_box_2_surface true -bc_box_3_surface true`, "
+              "the vertices beneath them free)" % OUTPUT_EVERY]
     lines += ["", "## Slow steps (%d or more Newton updates)" % SLOW_UPDATES, "",
               "From each run's `-newton_history`: the slow steps, of them those whose first Newton system was "
               "unfiltered and failed (CG met negative curvature, or its direction did not descend; the step then "

@@ -4,10 +4,12 @@ import functools
 import math
 import os
 
+import h5py
 import numpy as np
 
 from harness import fail
-from .common import ARGS, CONVERGED, cloth_args, mesh, out_base, read_state, run, sized_mesh, stats, summary_value
+from .common import (ARGS, CONVERGED, cloth_args, mesh, out_base, read_state, run, sized_mesh, stats, step_files,
+                     summary_value)
 
 
 def volume(rest, cells):
@@ -360,11 +362,54 @@ def case_exact_start():
         fail("the end states differ by %.2e L (> %.0e)" % (dist, limit))
 
 
+def case_surface_handle():
+    """A box handle on the body's surface (-bc_box_<k>_surface): the unit cube (tetrahedra, then hexahedra), its bottom
+    held, the box 0.25 <= x, y <= 0.75, z >= 0.7 pushed down 0.05 in one static step. With _surface the box holds the
+    vertices of its part of the top face only (vertex marker 2 on exactly the box's vertices at z = 1, 0 on those
+    beneath it) and makes a dent: every free vertex in the box moves down, by less than the handle (the compression
+    spreads into the body); without it the whole box is held (marker 2) and moves rigidly by 0.05."""
+    push = 0.05
+    for name in ("cube", "hexcube"):
+        for surface in ("true", "false"):
+            tag = "surface_handle_%s_%s_np%d" % (name, surface, ARGS.ranks)
+            run(["-dm_plex_filename", mesh(name), "-energy", "iarap", "-E", "1e4", "-nu", "0.3", "-integrator",
+                 "static", "-steps", "1", "-bc_clamp", "bottom", "-bc_box", "0.25,0.75,0.25,0.75,0.7,1.1",
+                 "-bc_box_1_translate", "0,0,%g" % -push, "-bc_box_1_surface", surface, "-output", out_base(tag),
+                 "-output_fields", "marker,alpha", "-stats", out_base(tag) + ".csv"], tag=tag)
+            row = stats(out_base(tag) + ".csv")[0]
+            if row["reason"] not in CONVERGED:
+                fail("%s: the step did not converge (%s)" % (tag, row["reason"]))
+            rest, _, x, _ = read_state(out_base(tag))
+            with h5py.File(step_files(out_base(tag))[-1], "r") as f:
+                marker = f["vertex/marker"][()].ravel()
+            eps = 1e-9
+            in_box = ((rest[:, 0] >= 0.25 - eps) & (rest[:, 0] <= 0.75 + eps) & (rest[:, 1] >= 0.25 - eps)
+                      & (rest[:, 1] <= 0.75 + eps) & (rest[:, 2] >= 0.7 - eps))
+            top = in_box & (np.abs(rest[:, 2] - 1.0) <= eps)
+            below = in_box & ~top
+            uz = x[:, 2] - rest[:, 2]
+            print("%s %s: %d vertices in the box, %d on the top face; held %d; beneath the face moved down %.4f to "
+                  "%.4f" % (name, surface, in_box.sum(), top.sum(), (marker == 2).sum(), -uz[below].max(),
+                            -uz[below].min()))
+            if not below.any():
+                fail("%s: no vertex of the mesh lies in the box beneath the top face; the case checks nothing" % name)
+            held = top if surface == "true" else in_box
+            if not (np.array_equal(marker == 2, held)):
+                fail("%s: the box holds %d vertices, expected %d (%s)" % (
+                    tag, (marker == 2).sum(), held.sum(), "its top-face vertices" if surface == "true" else "all"))
+            if not np.all(np.abs(uz[held] + push) <= 1e-12):
+                fail("%s: a held vertex is not at its prescribed position" % tag)
+            if surface == "true" and not (np.all(uz[below] < 0.0) and np.all(uz[below] > -push)):
+                fail("%s: the free vertices beneath the pushed face move by %.4g to %.4g, expected within (-%g, 0)"
+                     % (tag, uz[below].min(), uz[below].max(), push))
+
+
 CASES = {
     "cylinder_reaction": case_cylinder_reaction,
     "symmetry_supports": case_symmetry_supports,
     **{"patch_tests_" + shape: functools.partial(case_patch_tests, [shape]) for shape in PATCH_ENERGIES},
     "ortho_cube": case_ortho_cube,
     "moving_supports": case_moving_supports,
+    "surface_handle": case_surface_handle,
     "exact_start": case_exact_start,
 }

@@ -97,7 +97,11 @@ PetscErrorCode readBoundaryOptions(BoundarySpec *spec) {
       spec->boxes.push_back(bb);
       ClampSet box;
       box.id = "box" + std::to_string(b / 6 + 1);
-      PetscCall(readMotion("bc_box_" + std::to_string(b / 6 + 1) + "_", &box));
+      const std::string prefix = "bc_box_" + std::to_string(b / 6 + 1) + "_";
+      PetscCall(readMotion(prefix, &box));
+      PetscBool surface = PETSC_FALSE;
+      PetscCall(core::get(opt::boxSurface, &surface, &set, core::ReadContext{prefix.c_str()}));
+      box.surfaceOnly = surface == PETSC_TRUE;
       spec->sets.push_back(box);
     }
   }

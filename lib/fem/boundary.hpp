@@ -8,6 +8,7 @@
 //   -bc_clamp_<id>_components x,z      only these components are prescribed (symmetry planes, rollers)
 //   -bc_box xmin,xmax,ymin,ymax,zmin,zmax[,...]   vertices inside box k (1-based) are prescribed, pinned at rest
 //   -bc_box_<k>_translate|rotate|axis|center|components   unless moved like a clamp set (handles)
+//   -bc_box_<k>_surface                only the vertices of the mesh's boundary facets inside box k
 //   -bc_ramp_steps K                   the load parameter s = min(1, step / K) (default: all steps)
 // A vertex in several sets is held in the union of their components, each component by the first set (clamp sets in
 // the order listed, then boxes) that prescribes it. Prescribed position at load s:
@@ -34,6 +35,7 @@ struct ClampSet {
   Eigen::Matrix3d affine = Eigen::Matrix3d::Identity();  // x = A X about the origin, first
   unsigned components = 0b111;                           // bit i: component i is prescribed
   bool componentsGiven = false;                          // -bc_clamp_<id>_components set (z on a 2D mesh: an error)
+  bool surfaceOnly = false;                              // a box's boundary vertices only (-bc_box_<k>_surface)
 
   Eigen::Vector3d target(const Eigen::Vector3d &X, double s) const;
 };

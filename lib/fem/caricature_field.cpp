@@ -21,48 +21,22 @@ namespace {
 // normal (3) and the barycentric area (1), summed over the ranks sharing the vertex.
 constexpr int kFaceSums = 7;
 
-// Boundary faces: one tet globally. Without overlap a face shared by two ranks has one local cell on each, so a face
-// counts only if it is neither a leaf nor a root with leaves of the point SF.
-// `leaf`: the point-SF leaves (core::sharedLeafPoints).
+// `X`: the rest positions of the local vertices. The boundary faces (mesh/mesh.hpp's bodyBoundaryFacets; without
+// overlap each lies on one rank) add their terms to their vertices; sumOverSharedVertices then totals every vertex.
 PetscErrorCode accumulateBoundaryFaces(const Mesh &mesh, const std::vector<Eigen::Vector3d> &X,
-                                       const std::vector<char> &leaf, std::vector<double> *accOut) {
-  DM dm = mesh.dm;
+                                       std::vector<double> *accOut) {
   PetscFunctionBeginUser;
-  PetscInt pStart, pEnd, fStart, fEnd;
-  PetscCall(DMPlexGetChart(dm, &pStart, &pEnd));
-  PetscCall(DMPlexGetHeightStratum(dm, 1, &fStart, &fEnd));
-  std::vector<char> shared(leaf);
-  {
-    PetscSF sf;
-    const PetscInt *degree = nullptr;
-    PetscInt nroots;
-    PetscCall(DMGetPointSF(dm, &sf));
-    PetscCall(PetscSFGetGraph(sf, &nroots, nullptr, nullptr, nullptr));
-    if (nroots >= 0) {
-      PetscCall(PetscSFComputeDegreeBegin(sf, &degree));
-      PetscCall(PetscSFComputeDegreeEnd(sf, &degree));
-      for (PetscInt p = 0; p < std::min<PetscInt>(nroots, pEnd - pStart); ++p)
-        if (degree[p] > 0) shared[p] = 1;
-    }
-  }
-
+  std::vector<PetscInt> faces;
+  PetscCall(bodyBoundaryFacets(mesh, &faces));
   constexpr int K = kFaceSums;
   std::vector<double> &acc = *accOut;
   acc.assign(static_cast<size_t>(mesh.vEnd - mesh.vStart) * K, 0.0);
   std::vector<PetscInt> cv, fv;
-  for (PetscInt f = fStart; f < fEnd; ++f) {
-    PetscInt nsupp;
-    PetscCall(DMPlexGetSupportSize(dm, f, &nsupp));
-    if (nsupp != 1 || shared[f - pStart]) continue;
+  for (PetscInt f : faces) {
     const PetscInt *supp;
-    PetscCall(DMPlexGetSupport(dm, f, &supp));
+    PetscCall(DMPlexGetSupport(mesh.dm, f, &supp));
     PetscCall(closureVertices(mesh, supp[0], &cv));
-    PetscInt ncl, *closure = nullptr;
-    fv.clear();
-    PetscCall(DMPlexGetTransitiveClosure(dm, f, PETSC_TRUE, &ncl, &closure));
-    for (PetscInt i = 0; i < ncl; ++i)
-      if (closure[2 * i] >= mesh.vStart && closure[2 * i] < mesh.vEnd) fv.push_back(closure[2 * i] - mesh.vStart);
-    PetscCall(DMPlexRestoreTransitiveClosure(dm, f, PETSC_TRUE, &ncl, &closure));
+    PetscCall(closureVertices(mesh, f, &fv));
     PetscInt apex = -1;
     for (PetscInt v : cv)
       if (std::find(fv.begin(), fv.end(), v) == fv.end()) apex = v;
@@ -144,7 +118,7 @@ PetscErrorCode computeCaricatureField(const Mesh &mesh, CaricatureField *field) 
   PetscCall(DMPlexGetChart(dm, &pStart, nullptr));
   constexpr int K = kFaceSums;
   std::vector<double> acc;
-  PetscCall(accumulateBoundaryFaces(mesh, X, leaf, &acc));
+  PetscCall(accumulateBoundaryFaces(mesh, X, &acc));
 
   // Surface vertex values; the object's mean curvature over owned surface vertices.
   HarmonicProblem h;

@@ -51,10 +51,15 @@ PetscErrorCode DiscretizationT<R, C, NV>::markDirichlet(const Mesh &mesh, const 
     }
     for (PetscInt v : vs) mark(v, s);
   }
+  std::vector<char> onBoundary;  // for boxes that hold their boundary vertices only (-bc_box_<k>_surface)
+  if (std::any_of(bc_.sets.begin(), bc_.sets.end(), [](const ClampSet &c) { return c.surfaceOnly; }))
+    PetscCall(boundaryVertexFlags(mesh, &onBoundary));
   for (size_t b = 0; b < bc_.boxes.size(); ++b) {
     const auto &bb = bc_.boxes[b];
+    const bool surfaceOnly = bc_.sets[bc_.numGroups() + b].surfaceOnly;
     for (PetscInt v = mesh.vStart; v < mesh.vEnd; ++v) {
       const Eigen::Vector3d &X = rest[v - mesh.vStart];
+      if (surfaceOnly && !onBoundary[v - mesh.vStart]) continue;
       if (X[0] >= bb[0] && X[0] <= bb[1] && X[1] >= bb[2] && X[1] <= bb[3] && X[2] >= bb[4] && X[2] <= bb[5])
         mark(v, bc_.numGroups() + b);
     }

@@ -145,8 +145,15 @@ inline constexpr OptionDecl clampComponents =
 inline constexpr OptionDecl boxes =
     realsOption("-bc_box", "xmin,xmax,ymin,ymax,zmin,zmax[,...]",
                 "vertices inside box k (1-based, in the order given) are pinned at rest, or move by "
-                "-bc_box_<k>_translate, _rotate, _axis, _center, _components like a clamp set")
+                "-bc_box_<k>_translate, _rotate, _axis, _center, _components like a clamp set (_surface: its boundary "
+                "vertices only)")
         .otherwise("none");
+inline constexpr OptionDecl boxSurface =
+    flagOption("-surface",
+               "box k holds only the vertices of the mesh's boundary facets inside it (a solid's surface: a handle "
+               "that pushes the skin, not the body's interior; a sheet's or planar mesh's rim)")
+        .inFamily("-bc_box_<k>_")
+        .byDefault("false");
 inline constexpr OptionDecl rampSteps =
     intOption("-bc_ramp_steps", "K", "load parameter s = min(1, step / K): the motion reaches its total after K steps")
         .otherwise("-steps")
@@ -154,7 +161,7 @@ inline constexpr OptionDecl rampSteps =
 
 inline constexpr const OptionDecl *kBoundaryOptions[] = {&clamp,       &clampTranslate, &clampRotate, &clampAxis,
                                                          &clampCenter, &clampAffine,    &clampComponents, &boxes,
-                                                         &rampSteps};
+                                                         &boxSurface,  &rampSteps};
 
 // ---- body forces ----
 inline constexpr OptionDecl density =

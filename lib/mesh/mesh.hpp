@@ -95,6 +95,13 @@ PetscErrorCode ownedGroupFacets(const Mesh &mesh, const std::vector<char> &copy,
 // collective.
 PetscErrorCode closureVertices(const Mesh &mesh, PetscInt point, std::vector<PetscInt> *vertices);
 
+// The body's boundary facets on this rank: points of height 1 (faces of a solid, edges of a sheet or a planar mesh)
+// that one cell of the whole mesh holds, every local copy (a facet of a rank's overlap cells too). Collective.
+PetscErrorCode bodyBoundaryFacets(const Mesh &mesh, std::vector<PetscInt> *facets);
+// Per local vertex (index v - vStart): 1 if it lies on a boundary facet (bodyBoundaryFacets), the same on every rank
+// holding the vertex. Collective.
+PetscErrorCode boundaryVertexFlags(const Mesh &mesh, std::vector<char> *onBoundary);
+
 // The label and value that mark the cells of a volume group (id or name): "Cell Sets", or the group's own label
 // under -dm_plex_gmsh_use_regions.
 PetscErrorCode regionLabel(const Mesh &mesh, const std::string &idOrName, DMLabel *label, PetscInt *value);
