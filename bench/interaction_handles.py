@@ -116,6 +116,12 @@ def run(label, variant, steps, build):
     return work
 
 
+def held_vertices(work):
+    """The vertices the run's supports hold (the pinned base and the handles), from aries' mesh line in its log."""
+    m = re.search(r"vertices \((\d+) Dirichlet\)", open(os.path.join(work, "log.txt")).read())
+    return m.group(1) if m else "-"
+
+
 def box_distance(c, box):
     """Distance from points c (n x 3) to the boundary of an axis-aligned box (inside or out)."""
     lo, hi = np.array(box[0::2]), np.array(box[1::2])
@@ -225,8 +231,8 @@ def main():
                 scenes.machine_line(RANKS), CRUSHED_J, NEAR_BOX_H), "",
              "## Newton per step by phase", "",
              "| mesh | cells | h | variant | steps 1-55: Newton / solves | 56-100 | 101-200 | all steps | "
-             "s/step | crushed cells: most / smallest J | rho h^2 / (E dt^2) |",
-             "|---|---:|---:|---|---|---|---|---|---:|---|---:|"]
+             "s/step | held vertices | crushed cells: most / smallest J | rho h^2 / (E dt^2) |",
+             "|---|---:|---:|---|---|---|---|---|---:|---:|---|---:|"]
     cells, slow = {}, {}
     for label in labels:
         for v in variants:
@@ -237,11 +243,13 @@ def main():
             ph = ["%.2f / %.2f (%d)" % (x[1], x[2], x[0]) if x else "-" for x in phase_averages(stats)]
             allp = "%.2f / %.2f (%d)" % (np.mean([int(r["newton_its"]) for r in stats]),
                                           np.mean([int(r["linear_solves"]) for r in stats]), len(stats))
-            lines.append("| %s | %d | %.4f | %s | %s | %s | %s | %s | %.2f | %d / %.3f | %.2f |" % (
+            lines.append("| %s | %d | %.4f | %s | %s | %s | %s | %s | %.2f | %s | %d / %.3f | %.2f |" % (
                 MESHES[label][2], n, h, v, ph[0], ph[1], ph[2], allp,
-                np.mean([float(r["wall_s"]) for r in stats]), max(r["crushed"] for r in rows),
+                np.mean([float(r["wall_s"]) for r in stats]), held_vertices(results[label, v]),
+                max(r["crushed"] for r in rows),
                 min(r["minJ"] for r in rows), mass_to_stiffness(v, h)))
-    lines += ["", "(in brackets: the steps averaged; crushed cells: the most at one output step (every %d steps) and "
+    lines += ["", "(in brackets: the steps averaged; held vertices: those the supports hold, the pinned base's and the "
+              "handles'; crushed cells: the most at one output step (every %d steps) and "
               "the smallest J over them; rho h^2 / (E dt^2): a vertex's mass term rho h^3 / dt^2 against its cells' "
               "stiffness E h; filtered / exact start: a step's first Newton system filtered, "
               "or unfiltered where the previous step's unfiltered systems were all positive definite, "
