@@ -241,11 +241,10 @@ def main():
             h, n, rows = crushed_cells(results[label, v], boxes)
             cells[label, v] = rows
             ph = ["%.2f / %.2f (%d)" % (x[1], x[2], x[0]) if x else "-" for x in phase_averages(stats)]
-            allp = "%.2f / %.2f (%d)" % (np.mean([int(r["newton_its"]) for r in stats]),
-                                          np.mean([int(r["linear_solves"]) for r in stats]), len(stats))
+            newton, solves, _, seconds, _ = scenes.averages(stats)
+            allp = "%.2f / %.2f (%d)" % (newton, solves, len(stats))
             lines.append("| %s | %d | %.4f | %s | %s | %s | %s | %s | %.2f | %s | %d / %.3f | %.2f |" % (
-                MESHES[label][2], n, h, v, ph[0], ph[1], ph[2], allp,
-                np.mean([float(r["wall_s"]) for r in stats]), held_vertices(results[label, v]),
+                MESHES[label][2], n, h, v, ph[0], ph[1], ph[2], allp, seconds, held_vertices(results[label, v]),
                 max(r["crushed"] for r in rows),
                 min(r["minJ"] for r in rows), mass_to_stiffness(v, h)))
     lines += ["", "(in brackets: the steps averaged; held vertices: those the supports hold, the pinned base's and the "
