@@ -22,7 +22,7 @@
 //   * a shortened update leaves the rest of the increment for the next lifted solve, from the state it reached (the
 //     load then is between s and t): each lifted solve both moves the supports and corrects the equilibrium;
 //   * when the target is reached, plain Newton (the SNES iteration) continues at fixed supports.
-// Only where no length down to 2^-kMaxHalvings can be accepted does the solve hand the increment back unchanged
+// Only where no length down to 2^-kMaxLiftHalvings can be accepted does the solve hand the increment back unchanged
 // (advanced = false): the time stepper then falls back to moving the supports alone in halved load sub-steps
 // (simulation.cpp), the old path.
 #include "solver/local_vec.hpp"
@@ -33,8 +33,8 @@
 namespace aries::solver {
 
 namespace {
-// Lengths of a lifted update tried: 1, 1/2, ..., 2^-kMaxHalvings (the time stepper's -load halvings had 20).
-constexpr int kMaxHalvings = 20;
+// Lengths of a lifted update tried: 1, 1/2, ..., 2^-kMaxLiftHalvings (the time stepper's -load halvings had 20).
+constexpr int kMaxLiftHalvings = 20;
 // Lifted updates in one solve before plain Newton takes over at the load reached (the rest: a load sub-step).
 constexpr int kMaxLiftedUpdates = 30;
 }  // namespace
@@ -119,7 +119,7 @@ PetscErrorCode NewtonSolver::liftedLength(Vec x, Vec p, double s, double target,
   PetscFunctionBeginUser;
   double length = 1.0;
   *lambda = 0.0;
-  for (int k = 0; k <= kMaxHalvings; ++k, length *= 0.5) {
+  for (int k = 0; k <= kMaxLiftHalvings; ++k, length *= 0.5) {
     PetscCall(setLoad(k == 0 ? target : s + length * (target - s)));
     PetscCall(VecWAXPY(w, -length, p, x));
     bool ok = false;
