@@ -17,7 +17,8 @@ adaptive filter: -psd_projection abs / adaptive in place of backward Euler's cla
 element, each element's whole Hessian clamped instead of each quadrature point's; no exact Hessian:
 -newton_exact_hessian false, every system filtered; density 100, density 1000: the scene's density 10 raised;
 handles 0.03: the two handles pushed 0.03 into the cheeks in place of the scene's 0.06; surface handles: the two
-handles hold the body's boundary vertices in their boxes only, -bc_box_<k>_surface).
+handles hold the body's boundary vertices in their boxes only, -bc_box_<k>_surface; local solve: -newton_local_solve
+20, up to 20 Newton iterations on the vertices a concentrated update moved, reported in their own column).
 Each run lives in out/interaction_handles/<mesh>_<variant>/ with its stats, Newton history and output; a run whose
 directory holds the same command line and a stats row for every step asked for is read back, not run again. Use
 /usr/bin/python3.
@@ -69,7 +70,10 @@ VARIANTS = {"filtered start": ["-newton_exact_start", "false"], "exact start": [
             "handles 0.03": ["-bc_box_2_translate", "0,0.03,0", "-bc_box_3_translate", "0,-0.03,0"],
             # the handles hold the body's surface in their boxes only (-bc_box_<k>_surface): they push the skin of
             # the cheeks and leave the interior free, instead of moving the box's whole volume through the body
-            "surface handles": ["-bc_box_2_surface", "true", "-bc_box_3_surface", "true"]}
+            "surface handles": ["-bc_box_2_surface", "true", "-bc_box_3_surface", "true"],
+            # after an update concentrated on a few vertices, up to 20 Newton iterations on them alone
+            # (-newton_local_solve, solver/local_solve.cpp)
+            "local solve": ["-newton_local_solve", "20"]}
 DEFAULT_VARIANTS = "filtered start,exact start"
 
 
@@ -231,8 +235,8 @@ def main():
                 scenes.machine_line(RANKS), CRUSHED_J, NEAR_BOX_H), "",
              "## Newton per step by phase", "",
              "| mesh | cells | h | variant | steps 1-55: Newton / solves | 56-100 | 101-200 | all steps | "
-             "s/step | held vertices | crushed cells: most / smallest J | rho h^2 / (E dt^2) |",
-             "|---|---:|---:|---|---|---|---|---|---:|---:|---|---:|"]
+             "local iterations / step | s/step | held vertices | crushed cells: most / smallest J | rho h^2 / (E dt^2) |",
+             "|---|---:|---:|---|---|---|---|---|---:|---:|---:|---|---:|"]
     cells, slow = {}, {}
     for label in labels:
         for v in variants:
@@ -243,8 +247,10 @@ def main():
             ph = ["%.2f / %.2f (%d)" % (x[1], x[2], x[0]) if x else "-" for x in phase_averages(stats)]
             newton, solves, _, seconds, _ = scenes.averages(stats)
             allp = "%.2f / %.2f (%d)" % (newton, solves, len(stats))
-            lines.append("| %s | %d | %.4f | %s | %s | %s | %s | %s | %.2f | %s | %d / %.3f | %.2f |" % (
-                MESHES[label][2], n, h, v, ph[0], ph[1], ph[2], allp, seconds, held_vertices(results[label, v]),
+            local = sum(int(r.get("local_its") or 0) for r in stats) / max(len(stats), 1)
+            lines.append("| %s | %d | %.4f | %s | %s | %s | %s | %s | %.2f | %.2f | %s | %d / %.3f | %.2f |" % (
+                MESHES[label][2], n, h, v, ph[0], ph[1], ph[2], allp, local, seconds,
+                held_vertices(results[label, v]),
                 max(r["crushed"] for r in rows),
                 min(r["minJ"] for r in rows), mass_to_stiffness(v, h)))
     lines += ["", "(in brackets: the steps averaged; held vertices: those the supports hold, the pinned base's and the "
@@ -259,7 +265,9 @@ def main():
               "the scene's 10 raised; handles 0.03: the handles pushed 0.03 into the cheeks in place of 0.06, "
               "`-bc_box_2_translate 0,0.03,0 -bc_box_3_translate 0,-0.03,0`; surface handles: the handles hold "
               "the body's boundary vertices in their boxes only, `-bc_box_2_surface true -bc_box_3_surface true`, "
-              "the vertices beneath them free)" % OUTPUT_EVERY]
+              "the vertices beneath them free; local solve: `-newton_local_solve 20`, after an update that moved a few "
+              "vertices far more than the rest, up to 20 Newton iterations on them and their neighbours alone, the "
+              "local iterations/step column (not in the Newton counts; 0 in runs made before the stats had it))" % OUTPUT_EVERY]
     lines += ["", "## Slow steps (%d or more Newton updates)" % SLOW_UPDATES, "",
               "From each run's `-newton_history`: the slow steps, of them those whose first Newton system was "
               "unfiltered and failed (CG met negative curvature, or its direction did not descend; the step then "

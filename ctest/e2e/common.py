@@ -115,6 +115,16 @@ def static_scramble_args(msh, seed, steps):
             "-steps", str(steps), "-initial", "scramble", "-scramble_seed", str(seed), "-bc_box", box]
 
 
+def dynamic_scramble_args(msh, seed):
+    """A dynamic scramble with a volume term and a box pin (iarap, nu 0.3; the bottom 10% of the rest bounding box held;
+    backward Euler, 2 steps of 1e-2, density 1000, gravity)."""
+    lo, hi = meta_box(msh)
+    box = "%g,%g,%g,%g,%g,%g" % (lo[0] - 1, hi[0] + 1, lo[1] - 1, hi[1] + 1, lo[2] - 1, lo[2] + 0.1 * (hi[2] - lo[2]))
+    return ["-dm_plex_filename", msh, "-energy", "iarap", "-E", "1e4", "-nu", "0.3", "-integrator", "beuler",
+            "-dt", "1e-2", "-steps", "2", "-density", "1000", "-gravity", "0,0,-9.81", "-initial", "scramble",
+            "-scramble_seed", str(seed), "-bc_box", box]
+
+
 def meta_box(msh):
     import json
     with open(msh[:-4] + ".json") as fh:

@@ -5,8 +5,8 @@ import math
 import re
 
 from harness import csv_rows, fail
-from .common import (ARGS, CONVERGED, distance_to_rest, mesh, meta_box, out_base, read_cell_field, read_state, run,
-                     shape_error, sized_mesh, solve_blocks, static_scramble_args, stats)
+from .common import (ARGS, CONVERGED, distance_to_rest, dynamic_scramble_args, mesh, meta_box, out_base, read_cell_field,
+                     read_state, run, shape_error, sized_mesh, solve_blocks, static_scramble_args, stats)
 
 
 def case_scramble():
@@ -214,10 +214,7 @@ def case_dynamic_scramble_volume():
     tag = "dynamic_scramble_volume_np%d" % ARGS.ranks
     msh = mesh("hand")
     lo, hi = meta_box(msh)
-    box = "%g,%g,%g,%g,%g,%g" % (lo[0] - 1, hi[0] + 1, lo[1] - 1, hi[1] + 1, lo[2] - 1, lo[2] + 0.1 * (hi[2] - lo[2]))
-    common = ["-dm_plex_filename", msh, "-energy", "iarap", "-E", "1e4", "-nu", "0.3", "-integrator", "beuler",
-              "-dt", "1e-2", "-steps", "2", "-density", "1000", "-gravity", "0,0,-9.81", "-initial", "scramble",
-              "-scramble_seed", "2", "-bc_box", box, "-newton_forcing", "0"]
+    common = dynamic_scramble_args(msh, 2) + ["-newton_forcing", "0"]
     runs = {}
     for label, extra in (("stage", []), ("without", ["-beuler_shape_first", "0"])):
         base = out_base(tag + "_" + label)

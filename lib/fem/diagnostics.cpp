@@ -7,6 +7,7 @@
 #include <Eigen/Eigenvalues>
 
 #include <cmath>
+#include <limits>
 
 namespace aries::fem {
 
@@ -91,10 +92,45 @@ template <int R, int C, int NV>
 PetscErrorCode DiscretizationT<R, C, NV>::cellAlpha(Vec xLocal, std::vector<double> *alpha) const {
   const PetscScalar *x;
   PetscFunctionBeginUser;
-  alpha->resize(cells_.size());
   PetscCall(VecGetArrayRead(xLocal, &x));
-  for (size_t c = 0; c < cells_.size(); ++c) (*alpha)[c] = cells_.alpha(c, x);
+  if (cells_.focused()) {
+    alpha->assign(cells_.size(), std::numeric_limits<double>::infinity());
+    for (size_t c : cells_.focus()) (*alpha)[c] = cells_.alpha(c, x);
+  } else {
+    alpha->resize(cells_.size());
+    for (size_t c = 0; c < cells_.size(); ++c) (*alpha)[c] = cells_.alpha(c, x);
+  }
   PetscCall(VecRestoreArrayRead(xLocal, &x));
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::setFocus(Vec markLocal) {
+  PetscFunctionBeginUser;
+  if (!markLocal) {
+    cells_.setFocus(nullptr);
+    PetscFunctionReturn(0);
+  }
+  const PetscScalar *m;
+  std::vector<char> mask(verts_.size(), 0);
+  PetscCall(VecGetArrayRead(markLocal, &m));
+  for (size_t v = 0; v < verts_.size(); ++v)
+    for (PetscInt i = 0; i < dofs_; ++i)
+      if (m[verts_[v].loc + i] != 0.0) mask[v] = 1;
+  PetscCall(VecRestoreArrayRead(markLocal, &m));
+  cells_.setFocus(&mask);
+  PetscFunctionReturn(0);
+}
+
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::markFocusVertices(Vec outLocal) const {
+  PetscScalar *m;
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArray(outLocal, &m));
+  for (size_t c : cells_.focus())
+    for (PetscInt v : cells_.cells()[c].vertex)
+      for (PetscInt i = 0; i < dofs_; ++i) m[verts_[v].loc + i] = 1.0;
+  PetscCall(VecRestoreArray(outLocal, &m));
   PetscFunctionReturn(0);
 }
 

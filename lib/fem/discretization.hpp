@@ -216,6 +216,17 @@ class Discretization {
   virtual PetscErrorCode mollifierBandCells(Vec xLocal, PetscInt *count) const = 0;
   static constexpr double kMollifierBandEdge = 2.0;
 
+  // A local Newton solve's focus (solver/local_solve.cpp): the dofs marked nonzero in a local vector (ghosts included:
+  // every rank marks the vertices whose cells it owns). While set, the elastic cells sum only their owned cells with a
+  // marked vertex (the other terms all their pieces: correct, since only the marked dofs move), so objective()
+  // differences between states that differ at marked dofs only, and the gradient's and Hessian's marked rows, are
+  // the whole model's; cellGuard() gives those cells' values and +inf elsewhere. nullptr ends the focus.
+  virtual PetscErrorCode setFocus(Vec markLocal) = 0;
+  // Writes 1 into every dof of every vertex of the focus's cells on this rank (a local vector; others left as they
+  // are): summed into a global vector over the ranks, the focus's vertices and their neighbours, whatever the
+  // partition.
+  virtual PetscErrorCode markFocusVertices(Vec outLocal) const = 0;
+
   virtual PetscInt verticesPerCell() const = 0;  // nodes per element: 4 (tet), 3 (triangle), 8 (hexahedron), 10 (P2)
   virtual const char *outputTopology() const = 0;  // the element type's XDMF TopologyType
   virtual int shapeCols() const = 0;

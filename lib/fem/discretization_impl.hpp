@@ -59,6 +59,8 @@ class DiscretizationT final : public Discretization, public DiagnosticsView, pub
   PetscErrorCode barrierActiveCells(Vec xLocal, PetscInt *count) const override;
   PetscErrorCode mollifierBandCells(Vec xLocal, PetscInt *count) const override;
   void mollifierBandTop(std::vector<double> *top) const override;
+  PetscErrorCode setFocus(Vec markLocal) override;
+  PetscErrorCode markFocusVertices(Vec outLocal) const override;
   void ownedVertexIds(std::vector<PetscInt> *natural, std::vector<PetscInt> *local = nullptr) const override;
   void ownedCellIds(std::vector<PetscInt> *natural) const override;
   PetscErrorCode ownedVertexValues(Vec local, std::vector<double> *values) const override;

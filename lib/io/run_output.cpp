@@ -261,6 +261,7 @@ PetscErrorCode RunOutput::record(const solver::Simulation &sim, const solver::St
   st.reason = rep.reason;
   st.linearSolves = rep.newton.linearSolves;
   st.linearAtLimit = rep.newton.linearAtLimit;
+  st.localIterations = rep.newton.localIterations;
   st.residual = rep.newton.residualNorm;
   st.barrierFallback = rep.newton.barrierFallbackCells;
   st.barrierCells = rep.newton.barrierActiveCells;
@@ -304,6 +305,8 @@ PetscErrorCode RunOutput::record(const solver::Simulation &sim, const solver::St
       rep.newton.safeguardHalvings ? " (safeguard halved the step " + std::to_string(rep.newton.safeguardHalvings) + "x)" : "";
   const std::string atLimit =
       rep.newton.linearAtLimit ? " (" + std::to_string(rep.newton.linearAtLimit) + " at -ksp_max_it)" : "";
+  const std::string local =
+      rep.newton.localIterations ? "  local " + std::to_string(rep.newton.localIterations) : "";
   const std::string coarse = rep.coarseStart < 0 ? std::string()
                              : "  coarse newton " + std::to_string(rep.coarse.newtonIterations) + " cg " +
                                    std::to_string(rep.coarse.linearIterations) +
@@ -316,9 +319,9 @@ PetscErrorCode RunOutput::record(const solver::Simulation &sim, const solver::St
   const double elapsed = MPI_Wtime() - runStart_;
   const double eta = elapsed / static_cast<double>(rep.step - firstStep_ + 1) * static_cast<double>(rep.steps - rep.step);
   PetscCall(PetscPrintf(comm_,
-                        "step %d/%d  t=%g  newton %d  solves %d  cg %d%s%s  min_alpha %.3e  |r| %.2e  %.3f s  %s%s  "
+                        "step %d/%d  t=%g  newton %d%s  solves %d  cg %d%s%s  min_alpha %.3e  |r| %.2e  %.3f s  %s%s  "
                         "[elapsed %s, eta %s]\n",
-                        (int)rep.step, (int)rep.steps, rep.time, (int)rep.newton.newtonIterations,
+                        (int)rep.step, (int)rep.steps, rep.time, (int)rep.newton.newtonIterations, local.c_str(),
                         (int)rep.newton.linearSolves, (int)rep.newton.linearIterations, atLimit.c_str(), coarse.c_str(),
                         st.minAlpha,
                         rep.newton.residualNorm, rep.wallSeconds, rep.reason.c_str(), halved.c_str(),

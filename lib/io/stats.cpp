@@ -20,7 +20,7 @@ PetscErrorCode StatsWriter::open(MPI_Comm comm, const std::string &path, PetscIn
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   bool bad = false;
   if (rank == 0) {
-    static const char header[] = "step,time,newton_its,ksp_its,wall_s,energy,min_alpha,max_disp,reason,linear_solves,ksp_at_limit,residual,barrier_cells,barrier_fallback,coarse_newton_its,coarse_ksp_its,coarse_start";
+    static const char header[] = "step,time,newton_its,ksp_its,wall_s,energy,min_alpha,max_disp,reason,linear_solves,ksp_at_limit,residual,barrier_cells,barrier_fallback,coarse_newton_its,coarse_ksp_its,coarse_start,local_its";
     std::vector<std::string> builds, keep;
     if (resumeAfterStep >= 0) {  // keep the rows up to the restart step, and the builds that wrote them, in a new file
       std::ifstream in(path);
@@ -50,11 +50,11 @@ PetscErrorCode StatsWriter::open(MPI_Comm comm, const std::string &path, PetscIn
 PetscErrorCode StatsWriter::append(const StepStats &s) {
   PetscFunctionBeginUser;
   if (file_) {
-    std::fprintf(file_, "%d,%.10g,%d,%d,%.6f,%.17g,%.6e,%.10g,%s,%d,%d,%.6e,%d,%d,%d,%d,%d\n", (int)s.step, s.time,
+    std::fprintf(file_, "%d,%.10g,%d,%d,%.6f,%.17g,%.6e,%.10g,%s,%d,%d,%.6e,%d,%d,%d,%d,%d,%d\n", (int)s.step, s.time,
                  (int)s.newtonIterations, (int)s.linearIterations, s.wallSeconds, s.energy, s.minAlpha,
                  s.maxDisplacement, s.reason.c_str(), (int)s.linearSolves, (int)s.linearAtLimit, s.residual,
                  (int)s.barrierCells, (int)s.barrierFallback, (int)s.coarseNewton, (int)s.coarseLinear,
-                 s.coarseStart);
+                 s.coarseStart, (int)s.localIterations);
     std::fflush(file_);
   }
   PetscFunctionReturn(0);

@@ -27,6 +27,7 @@ struct StepStats {
   PetscInt barrierCells = 0, barrierFallback = 0;
   PetscInt coarseNewton = 0, coarseLinear = 0;  // the nested iteration's coarse levels (-coarse_mesh)
   int coarseStart = -1;                         // -1 no nested start, 0 not taken, 1 taken
+  PetscInt localIterations = 0;                 // -newton_local_solve's iterations (solver/local_solve.cpp)
 };
 
 class StatsWriter {

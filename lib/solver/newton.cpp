@@ -15,6 +15,7 @@ NewtonResult &NewtonResult::operator+=(const NewtonResult &o) {
   linearSolves += o.linearSolves;
   linearIterations += o.linearIterations;
   linearAtLimit += o.linearAtLimit;
+  localIterations += o.localIterations;
   safeguardHalvings += o.safeguardHalvings;
   reason = o.reason;
   // A part that converged without an update (a load sub-step, the supported phase after a detached start) after
@@ -59,8 +60,9 @@ NewtonSolver::~NewtonSolver() {
   steps_.clear();  // before the SNES: the convergence check holds its KSP test's context
   if (ctx_.snes) SNESDestroy(&ctx_.snes);
   if (ctx_.J) MatDestroy(&ctx_.J);
+  if (local_.ksp) KSPDestroy(&local_.ksp);
   for (Vec *v : {&ctx_.work, &ctx_.invMass, &ctx_.trialX, &ctx_.trialF, &lift_.rhs, &lift_.step, &lift_.trial,
-                 &lift_.coupling})
+                 &lift_.coupling, &local_.before})
     if (*v) VecDestroy(v);
 }
 

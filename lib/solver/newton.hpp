@@ -137,6 +137,13 @@ class NewtonSolver {
     Vec rhs = nullptr, step = nullptr, trial = nullptr;  // r_f + H_fd d, the lifted step p, a trial state
     Vec coupling = nullptr;                              // H_fd d
   } lift_;
+  struct {
+    Vec before = nullptr;  // the iterate before the update in progress
+    KSP ksp = nullptr;     // the local systems' CG + Jacobi
+  } local_;
+  // After a concentrated update (local_solve.cpp): Newton on the vertices it moved; F and *fnorm follow x.
+  PetscErrorCode localSolve(Vec x, Vec F, PetscReal *fnorm);
+  PetscErrorCode localSet(Vec x, Vec mark, bool *found);
   PetscInt kspBefore_ = 0;   // the KSP's total iterations when the solve began
   int filterOverride_ = -1;       // overrideFilter's EigenFilterMode (-1: -psd_projection's)
   double stepTolLoosened_ = 0.0;  // loosenStepTolerance (0: -newton_tol's)

@@ -204,6 +204,10 @@ PetscErrorCode NewtonSolver::preCheck(SNESLineSearch, Vec X, Vec Y, PetscBool *c
   PetscCall(SNESGetIterationNumber(c.snes, &iter));
   PetscCall(SNESGetFunction(c.snes, &F, nullptr, nullptr));
   ++c.result.linearSolves;
+  if (self->opts_.local.maxIterations > 0) {  // the local solve measures the update against it
+    if (!self->local_.before) PetscCall(VecDuplicate(X, &self->local_.before));
+    PetscCall(VecCopy(X, self->local_.before));
+  }
   if (linearReason == KSP_DIVERGED_ITS) ++c.result.linearAtLimit;
   Direction &d = self->pending_;
   d = Direction{};
@@ -320,6 +324,11 @@ PetscErrorCode NewtonSolver::convergenceTest(SNES snes, PetscInt it, PetscReal x
     self->ctx_.result.newtonIterations = it + self->ctx_.iterationOffset;
     PetscCall(SNESGetSolution(snes, &x));
     PetscCall(self->finishUpdate(x));
+    if (*reason == SNES_CONVERGED_ITERATING && self->opts_.local.maxIterations > 0) {
+      Vec F;
+      PetscCall(SNESGetFunction(snes, &F, nullptr, nullptr));
+      PetscCall(self->localSolve(x, F, &fnorm));
+    }
   }
   PetscCall(self->check_->testIterate(self->ctx_, it, fnorm, reason));
   PetscFunctionReturn(0);

@@ -46,6 +46,7 @@ PetscErrorCode readNewtonOptions(bool dynamic, const NewtonOptions *base, const 
     PetscCall(core::get(opt::newtonExtrapolate, &o->subspace.extrapolate, nullptr, at));
   }
   PetscCall(core::get(opt::newtonRotation, &o->rotation.doublings, nullptr, at));
+  PetscCall(core::get(opt::newtonLocalSolve, &o->local.maxIterations, nullptr, at));
   PetscCall(core::get(opt::newtonForcing, &o->convergence.forcing, nullptr, at));
   PetscCall(core::getChoice(opt::liftIncrements, &o->lift, nullptr, at));
   PetscBool guess = PETSC_FALSE;

@@ -42,12 +42,18 @@ struct SafeguardOptions {
   double alphaMin = 1e-6;
 };
 
+// The local solve after a concentrated update (local_solve.cpp): -newton_local_solve.
+struct LocalSolveOptions {
+  PetscInt maxIterations = 0;  // 0: off
+};
+
 struct NewtonOptions {
   ConvergenceOptions convergence;
   FilterOptions filter;
   SubspaceOptions subspace;
   RotationOptions rotation;
   SafeguardOptions safeguard;
+  LocalSolveOptions local;
   LiftMode lift = LiftMode::Auto;  // -lift_increments: a load increment enters the first linear solves
   bool inertiaGuess = false;       // -newton_inertia_guess (backward Euler)
   bool rigidNearNullspace = true;  // -near_nullspace rigid|none

@@ -67,6 +67,7 @@ struct NewtonResult {
   PetscInt newtonIterations = 0;   // updates of the state (line searches that moved it)
   PetscInt linearSolves = 0;       // Newton systems solved (one per direction, including the converging one)
   PetscInt linearIterations = 0;   // Krylov iterations over all of them
+  PetscInt localIterations = 0;   // the local solves' Newton iterations (-newton_local_solve; not updates above)
   PetscInt linearAtLimit = 0;      // linear solves stopped by -ksp_max_it (their direction is not a Newton step)
   PetscInt safeguardHalvings = 0;
   SNESConvergedReason reason = SNES_CONVERGED_ITERATING;
@@ -298,6 +299,9 @@ class AlphaSafeguard final : public NewtonStep {
   // below alpha_min (or any alpha is NaN). A cell is guarded when its reference alpha is at or above the top of its
   // singular band (newton.hpp).
   PetscErrorCode acceptable(NewtonContext &ctx, Vec xGlobal, const std::vector<double> &reference, bool *ok);
+  // The same rule on this rank's cells, given their guard values and singular bands' tops (no communication).
+  bool rejects(const std::vector<double> &reference, const std::vector<double> &alpha,
+               const std::vector<double> &bandTop) const;
   // Each local cell's guard value (alpha; fem::Discretization::cellGuard) at a global state, Dirichlet values filled.
   PetscErrorCode alphasAt(NewtonContext &ctx, Vec xGlobal, std::vector<double> *alpha);
 

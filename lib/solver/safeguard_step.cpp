@@ -15,7 +15,7 @@ namespace {
 // The alpha safeguard guards a cell only from kGuardMargin * alpha_min up (see AlphaSafeguard::acceptable).
 constexpr double kGuardMargin = 2.0;
 // More halvings than this leave no step worth taking (2^-60).
-constexpr int kMaxHalvings = 60;
+constexpr int kMaxSafeguardHalvings = 60;
 }  // namespace
 
 // alpha is a function of the local state alone (the cells' deformation gradients): a state equal in every local value
@@ -49,22 +49,27 @@ PetscErrorCode AlphaSafeguard::acceptable(NewtonContext &ctx, Vec xGlobal, const
   // the energy and its line search, and a guarded cell starts at least 2 alpha_min above zero: guarding cells that
   // hover just above the bound lets any one of thousands of them veto every direction, and the step is halved to
   // nothing (a deadlock). With the margin every guarded cell admits a step of length ~ alpha_min / |d alpha/d step|.
-  int bad = 0;
-  for (size_t c = 0; c < alpha.size() && !bad; ++c) {
-    const bool guarded = reference[c] >= std::max(kGuardMargin * opts_.alphaMin, bandTop_[c]);
-    bad = std::isnan(alpha[c]) || (guarded && !(alpha[c] >= opts_.alphaMin));
-  }
+  int bad = rejects(reference, alpha, bandTop_) ? 1 : 0;
   int anyBad = 0;
   PetscCallMPI(MPI_Allreduce(&bad, &anyBad, 1, MPI_INT, MPI_MAX, comm));
   *ok = !anyBad;
   PetscFunctionReturn(0);
 }
 
+bool AlphaSafeguard::rejects(const std::vector<double> &reference, const std::vector<double> &alpha,
+                             const std::vector<double> &bandTop) const {
+  for (size_t c = 0; c < alpha.size(); ++c) {
+    const bool guarded = reference[c] >= std::max(kGuardMargin * opts_.alphaMin, bandTop[c]);
+    if (std::isnan(alpha[c]) || (guarded && !(alpha[c] >= opts_.alphaMin))) return true;
+  }
+  return false;
+}
+
 // Halves the direction until the full step keeps every guarded element's alpha acceptable.
 PetscErrorCode AlphaSafeguard::shapeDirection(NewtonContext &ctx, Direction &d, Vec X, Vec Y, Vec, PetscBool *changed) {
   PetscFunctionBeginUser;
   PetscCall(alphasAt(ctx, X, &alphaRef_));
-  for (int k = 0; k < kMaxHalvings; ++k) {
+  for (int k = 0; k < kMaxSafeguardHalvings; ++k) {
     PetscCall(VecWAXPY(ctx.work, -1.0, Y, X));
     bool ok = false;
     PetscCall(acceptable(ctx, ctx.work, alphaRef_, &ok));
@@ -85,7 +90,7 @@ PetscErrorCode AlphaSafeguard::shapeDirection(NewtonContext &ctx, Direction &d, 
 // and the share kept is the direction's postScale.
 PetscErrorCode AlphaSafeguard::checkPoint(NewtonContext &ctx, Direction &d, Vec X, Vec W, PetscBool *changed) {
   PetscFunctionBeginUser;
-  for (int k = 0; k < kMaxHalvings; ++k) {
+  for (int k = 0; k < kMaxSafeguardHalvings; ++k) {
     bool ok = false;
     PetscCall(acceptable(ctx, W, alphaRef_, &ok));
     if (ok) break;

@@ -168,6 +168,14 @@ inline constexpr OptionDecl newtonExtrapolate =
         .byDefault("0", "static", "6", "beuler")
         .atLeast(0)
         .atMost(10);
+inline constexpr OptionDecl newtonLocalSolve =
+    intOption("-newton_local_solve", "K",
+              "after a Newton update that moved a few vertices far more than the rest (most of its length on at most "
+              "5% of the dofs), up to K Newton iterations on those vertices and their neighbours alone, the rest of "
+              "the body held, before the next global solve (0: off)")
+        .byDefault("0")
+        .atLeast(0)
+        .atMost(100);
 inline constexpr OptionDecl newtonRotation =
     intOption("-newton_rotation", "K",
               "rotational update: the rotational part of each vertex's step follows the circle, up to K doublings of "
@@ -219,7 +227,7 @@ inline constexpr OptionDecl multigridMinDofs =
 inline constexpr const OptionDecl *kNewtonOptions[] = {
     &newtonTol,      &alphaMin,          &psdProjection,  &psdEigensystem,     &psdScope,     &psdAdaptiveTol,
     &newtonExactHessian, &newtonExactStart, &newtonSubspace,
-    &newtonSubspaceMax, &newtonExtrapolate, &newtonRotation, &newtonForcing,  &liftIncrements, &newtonInertiaGuess,
+    &newtonSubspaceMax, &newtonExtrapolate, &newtonLocalSolve, &newtonRotation, &newtonForcing,  &liftIncrements, &newtonInertiaGuess,
     &nearNullspace, &multigridMinDofs};
 
 }  // namespace aries::solver::opt

@@ -9,8 +9,7 @@ namespace aries::fem {
 template <int R, int C, int NV>
 void ElasticCells<R, C, NV>::addEnergy(const PetscScalar *x, double *energy, double *magnitude) const {
   double e = 0.0, mag = 0.0;
-  for (size_t c = 0; c < cells_.size(); ++c) {
-    if (!cells_[c].owned) continue;
+  forEachOwnedCell([&](size_t c) {
     for (int q = 0; q < NQ; ++q) {
       const double eq = cells_[c].weight[q] *
                         energies::evaluateEnergy<R, C>(materialOf(c), dataOf(c), deformationGradient(c, q, x),
@@ -18,16 +17,15 @@ void ElasticCells<R, C, NV>::addEnergy(const PetscScalar *x, double *energy, dou
       e += eq;
       mag += std::abs(eq);
     }
-  }
+  });
   *energy += e;
   *magnitude += mag;
 }
 
 template <int R, int C, int NV>
 void ElasticCells<R, C, NV>::addGradient(const PetscScalar *x, PetscScalar *g) const {
-  for (size_t c = 0; c < cells_.size(); ++c) {
+  forEachOwnedCell([&](size_t c) {
     const Cell &cell = cells_[c];
-    if (!cell.owned) continue;
     kernels::Vec<NDOF> ge = kernels::Vec<NDOF>::Zero();
     for (int q = 0; q < NQ; ++q) {
       const auto d = energies::evaluateEnergy<R, C>(materialOf(c), dataOf(c), deformationGradient(c, q, x),
@@ -38,7 +36,7 @@ void ElasticCells<R, C, NV>::addGradient(const PetscScalar *x, PetscScalar *g) c
       PetscScalar *gp = g + verts_[cell.vertex[v]].loc;
       for (int i = 0; i < R; ++i) gp[i] += ge[v * R + i];
     }
-  }
+  });
 }
 
 template <int R, int C, int NV>
@@ -51,7 +49,9 @@ PetscErrorCode ElasticCells<R, C, NV>::addHessian(const PetscScalar *x, const He
         J, verts_, cells_.size(), [&](size_t c) { return cells_[c].vertex.data(); },
         [&](size_t c) { return cells_[c].owned; }, &direct));
   if (direct) PetscCall(scatter_.begin());
-  for (size_t c = 0; c < cells_.size(); ++c) {
+  const size_t count = focused_ ? focus_.size() : cells_.size();
+  for (size_t i = 0; i < count; ++i) {
+    const size_t c = focused_ ? focus_[i] : i;
     const Cell &cell = cells_[c];
     if (!cell.owned || productSkips<NV, R>(verts_, cell.vertex, how)) continue;
     K.setZero();
@@ -76,8 +76,7 @@ PetscErrorCode ElasticCells<R, C, NV>::addHessian(const PetscScalar *x, const He
 template <int R, int C, int NV>
 void ElasticCells<R, C, NV>::addCurvature(const PetscScalar *x, const PetscScalar *const d[], int K,
                                           GramMatrix *q) const {
-  for (size_t c = 0; c < cells_.size(); ++c) {
-    if (!cells_[c].owned) continue;
+  forEachOwnedCell([&](size_t c) {
     for (int p = 0; p < NQ; ++p) {
       const auto e = energies::evaluateEnergy<R, C>(materialOf(c), dataOf(c), deformationGradient(c, p, x),
                                                     kernels::Order::Hessian);
@@ -85,7 +84,7 @@ void ElasticCells<R, C, NV>::addCurvature(const PetscScalar *x, const PetscScala
       for (int k = 0; k < K; ++k) A.col(k) = kernels::flatten<R, C>(deformationGradient(c, p, d[k]));
       addGram(A, (cells_[c].weight[p] * e.hess).eval(), K, q);
     }
-  }
+  });
 }
 
 template <int R, int C, int NV>

@@ -91,6 +91,33 @@ class ElasticCells final : public Term {
     }
     return a;
   }
+  // A local solve's focus (Discretization::setFocus): only the owned cells with a vertex in `vertexMask` (per local
+  // vertex) are summed by addEnergy, addGradient, addHessian and addCurvature; nullptr: every owned cell again.
+  void setFocus(const std::vector<char> *vertexMask) {
+    focused_ = vertexMask != nullptr;
+    focus_.clear();
+    if (!focused_) return;
+    for (size_t c = 0; c < cells_.size(); ++c) {
+      if (!cells_[c].owned) continue;
+      for (int v = 0; v < NV; ++v)
+        if ((*vertexMask)[cells_[c].vertex[v]]) {
+          focus_.push_back(c);
+          break;
+        }
+    }
+  }
+  bool focused() const { return focused_; }
+  const std::vector<size_t> &focus() const { return focus_; }
+  // Calls f(c) for every owned cell, or for the focus's cells while one is set.
+  template <class F>
+  void forEachOwnedCell(F &&f) const {
+    if (focused_) {
+      for (size_t c : focus_) f(c);
+      return;
+    }
+    for (size_t c = 0; c < cells_.size(); ++c)
+      if (cells_[c].owned) f(c);
+  }
   // Barrier mode at singular elements (paper Sec. 7.1): cells with alpha <= threshold are evaluated with the
   // mollifier until a later call finds them above it. Returns the number of such local cells.
   PetscInt updateBarrierFallback(const std::vector<double> &alpha, double threshold);
@@ -103,6 +130,8 @@ class ElasticCells final : public Term {
   std::vector<char> fallback_;                 // per cell: barrier -> mollifier
   std::vector<energies::Material> mollified_;  // materials_ with the barrier replaced by the mollifier
   mutable ElementScatter<NV, R> scatter_;      // where each cell's blocks go in the last Hessian matrix's arrays
+  bool focused_ = false;
+  std::vector<size_t> focus_;  // the focus's owned cells (setFocus)
 };
 
 }  // namespace aries::fem

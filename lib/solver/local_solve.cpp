@@ -1,0 +1,209 @@
+// The local solve (-newton_local_solve K; nonlinear elimination, Cai and Keyes 2002): after a Newton update that
+// moved a few vertices far more than the rest of the body (cells snapping through at a rigid handle's rim, a scrambled
+// body's last inverted cells), up to K Newton iterations on those vertices and their neighbours alone, the rest held.
+// Only the cells that touch them are evaluated (fem::Discretization::setFocus), their system is a few thousand dofs
+// solved by its own CG + Jacobi, and the safeguard and an Armijo backtracking guard each local update as they guard a
+// global one. The global Newton solve then goes on from the relaxed state: it alone certifies convergence, so a step
+// converges to the same tolerance with or without local solves (bench/results/local_solve.md measures what they save).
+#include "solver/local_vec.hpp"
+#include "solver/newton.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace aries::solver {
+
+namespace {
+// An update is concentrated when the dofs that moved more than kMovingShare of its largest change carry at least
+// kConcentration of its squared length and are at most kMaxDofShare of the free dofs.
+constexpr double kMovingShare = 0.1;
+constexpr double kConcentration = 0.6;
+constexpr double kMaxDofShare = 0.05;
+constexpr double kArmijo = 1e-4;  // sufficient decrease of a local update
+constexpr int kMaxCuts = 30;      // backtracking halvings of a local update
+constexpr PetscReal kLocalRtol = 1e-6;
+constexpr PetscInt kLocalMaxIts = 2000;
+}  // namespace
+
+// The local set of the update that just ended (x - local_.before): 1 in `mark` (global) at the dofs of the moved
+// vertices and their neighbours, and the discretization focused on the cells that touch them. *found false (no focus)
+// where the update is not concentrated. Rank-independent: the moved dofs by a global threshold, the neighbours through
+// the cells, each counted on the rank that owns it.
+PetscErrorCode NewtonSolver::localSet(Vec x, Vec mark, bool *found) {
+  const DM dm = ctx_.disc->dm();
+  Vec d = ctx_.work;
+  PetscReal dmax;
+  PetscInt n, N;
+  PetscScalar *m;
+  const PetscScalar *da;
+  PetscFunctionBeginUser;
+  *found = false;
+  PetscCall(VecWAXPY(d, -1.0, local_.before, x));
+  PetscCall(VecNorm(d, NORM_INFINITY, &dmax));
+  if (!(dmax > 0.0)) PetscFunctionReturn(0);
+  PetscCall(VecGetLocalSize(d, &n));
+  PetscCall(VecGetSize(d, &N));
+  PetscCall(VecGetArrayRead(d, &da));
+  PetscCall(VecGetArray(mark, &m));
+  double sums[3] = {0.0, 0.0, 0.0};  // squared length of the moved dofs, of all, number moved
+  for (PetscInt i = 0; i < n; ++i) {
+    const double a = std::abs(da[i]);
+    const bool moved = a > kMovingShare * dmax;
+    m[i] = moved ? 1.0 : 0.0;
+    sums[1] += a * a;
+    if (moved) {
+      sums[0] += a * a;
+      sums[2] += 1.0;
+    }
+  }
+  PetscCall(VecRestoreArray(mark, &m));
+  PetscCall(VecRestoreArrayRead(d, &da));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sums, 3, MPI_DOUBLE, MPI_SUM, PetscObjectComm((PetscObject)x)));
+  if (sums[0] < kConcentration * sums[1] || sums[2] > kMaxDofShare * static_cast<double>(N)) PetscFunctionReturn(0);
+  {
+    LocalVec ml(dm), ring(dm);
+    PetscCall(ml.fromGlobal(mark, nullptr));
+    PetscCall(ctx_.disc->setFocus(ml.get()));  // the cells of the moved vertices
+    PetscCall(ring.zeros());
+    PetscCall(ctx_.disc->markFocusVertices(ring.get()));  // their vertices: the moved ones and their neighbours
+    PetscCall(VecSet(mark, 0.0));
+    PetscCall(DMLocalToGlobal(dm, ring.get(), ADD_VALUES, mark));
+  }
+  LocalVec ml(dm);
+  PetscCall(ml.fromGlobal(mark, nullptr));
+  PetscCall(ctx_.disc->setFocus(ml.get()));  // every cell that touches a vertex of the local set
+  *found = true;
+  PetscFunctionReturn(0);
+}
+
+// The local set's rows (the owned dofs marked in `mark`, which is made a 0/1 mask: LocalToGlobal summed each vertex's
+// marks over the ranks that share it).
+static PetscErrorCode localRows(Vec mark, IS *is) {
+  std::vector<PetscInt> rows;
+  PetscInt lo, hi;
+  PetscScalar *m;
+  PetscFunctionBeginUser;
+  PetscCall(VecGetOwnershipRange(mark, &lo, &hi));
+  PetscCall(VecGetArray(mark, &m));
+  for (PetscInt i = 0; i < hi - lo; ++i)
+    if (m[i] != 0.0) {
+      rows.push_back(lo + i);
+      m[i] = 1.0;
+    }
+  PetscCall(VecRestoreArray(mark, &m));
+  PetscCall(ISCreateGeneral(PetscObjectComm((PetscObject)mark), static_cast<PetscInt>(rows.size()), rows.data(),
+                            PETSC_COPY_VALUES, is));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode NewtonSolver::localSolve(Vec x, Vec F, PetscReal *fnorm) {
+  fem::Discretization *disc = ctx_.disc;
+  const DM dm = disc->dm();
+  const MPI_Comm comm = PetscObjectComm((PetscObject)x);
+  Vec mark, g, p, trial;
+  bool found = false;
+  PetscFunctionBeginUser;
+  PetscCall(VecDuplicate(x, &mark));
+  PetscCall(ctx_.beginAssembly());
+  PetscCall(localSet(x, mark, &found));
+  if (!found) {
+    PetscCall(ctx_.endAssembly());
+    PetscCall(VecDestroy(&mark));
+    PetscFunctionReturn(0);
+  }
+  IS is;
+  PetscCall(localRows(mark, &is));
+  if (!local_.ksp) {
+    PC pc;
+    PetscCall(KSPCreate(comm, &local_.ksp));
+    PetscCall(KSPSetType(local_.ksp, KSPCG));
+    PetscCall(KSPGetPC(local_.ksp, &pc));
+    PetscCall(PCSetType(pc, PCJACOBI));
+    PetscCall(KSPSetTolerances(local_.ksp, kLocalRtol, PETSC_DEFAULT, PETSC_DEFAULT, kLocalMaxIts));
+  }
+  PetscCall(KSPReset(local_.ksp));  // a new set: new sizes
+  PetscCall(VecDuplicate(x, &g));
+  PetscCall(VecDuplicate(x, &p));
+  PetscCall(VecDuplicate(x, &trial));
+  // The local systems are filtered as the global ones (clamped where this iteration's was unfiltered: an exact local
+  // system is as indefinite as the update that made the set).
+  const kernels::EigenFilter filterBefore = disc->eigenFilter();
+  if (filterBefore == kernels::EigenFilter::None) disc->setEigenFilter(kernels::EigenFilter::Clamp);
+  std::vector<double> bandTop, ref, alpha;
+  disc->mollifierBandTop(&bandTop);
+  // The focused potential (the cells of the set, the other terms whole) and guard values at a global state.
+  auto evaluate = [&](Vec xg, PetscReal *e, std::vector<double> *guard) -> PetscErrorCode {
+    LocalVec xl(dm);
+    PetscFunctionBeginUser;
+    PetscCall(xl.fromGlobal(xg, disc));
+    PetscCall(disc->objective(xl.get(), e, nullptr));
+    PetscCall(disc->cellGuard(xl.get(), guard));
+    PetscFunctionReturn(0);
+  };
+  PetscReal energy;
+  PetscCall(evaluate(x, &energy, &ref));
+  Mat Hs = nullptr;
+  const PetscInt before = ctx_.result.localIterations;
+  for (PetscInt it = 0; it < opts_.local.maxIterations; ++it) {
+    {
+      LocalVec xl(dm), gl(dm);
+      PetscCall(xl.fromGlobal(x, disc));
+      PetscCall(gl.zeros());
+      PetscCall(disc->gradient(xl.get(), gl.get()));
+      PetscCall(VecSet(g, 0.0));
+      PetscCall(DMLocalToGlobal(dm, gl.get(), ADD_VALUES, g));
+      // Backward Euler's bound on the local step (NewtonContext::stepBound; the local system, filtered, is at least
+      // its mass term): where even the bound is within the tolerance there is nothing to solve for.
+      PetscReal bound;
+      PetscCall(VecPointwiseMult(p, g, mark));
+      PetscCall(ctx_.stepBound(p, &bound));
+      if (bound <= ctx_.stepTol) break;
+      PetscCall(disc->hessian(xl.get(), ctx_.J));  // the set's rows are whole: every cell that touches them
+    }
+    Vec gs, ps;
+    PetscCall(MatDestroy(&Hs));
+    PetscCall(MatCreateSubMatrix(ctx_.J, is, is, MAT_INITIAL_MATRIX, &Hs));
+    PetscCall(KSPSetOperators(local_.ksp, Hs, Hs));
+    PetscCall(VecGetSubVector(g, is, &gs));
+    PetscCall(VecDuplicate(gs, &ps));
+    PetscCall(KSPSolve(local_.ksp, gs, ps));
+    PetscCall(VecRestoreSubVector(g, is, &gs));
+    PetscCall(VecSet(p, 0.0));
+    PetscCall(VecISCopy(p, is, SCATTER_FORWARD, ps));
+    PetscCall(VecDestroy(&ps));
+    PetscReal pinf, slope;
+    PetscCall(VecNorm(p, NORM_INFINITY, &pinf));
+    PetscCall(VecDot(g, p, &slope));
+    if (pinf <= ctx_.stepTol || !(slope > 0.0)) break;  // converged locally, or no descent
+    bool accepted = false;
+    PetscReal e = 0.0;
+    double t = 1.0;
+    for (int k = 0; k < kMaxCuts && !accepted; ++k, t *= 0.5) {
+      PetscCall(VecWAXPY(trial, -t, p, x));
+      PetscCall(evaluate(trial, &e, &alpha));
+      int bad = safeguard_->rejects(ref, alpha, bandTop) ? 1 : 0;
+      PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &bad, 1, MPI_INT, MPI_MAX, comm));
+      accepted = !bad && e <= energy - kArmijo * t * slope;
+      if (accepted) break;
+    }
+    if (!accepted) break;
+    PetscCall(VecCopy(trial, x));
+    energy = e;
+    ref.swap(alpha);
+    ++ctx_.result.localIterations;
+  }
+  disc->setEigenFilter(filterBefore);
+  PetscCall(disc->setFocus(nullptr));
+  PetscCall(ctx_.endAssembly());
+  PetscCall(MatDestroy(&Hs));
+  PetscCall(ISDestroy(&is));
+  for (Vec *v : {&mark, &g, &p, &trial}) PetscCall(VecDestroy(v));
+  if (ctx_.result.localIterations > before) {  // the whole gradient again, for the global solve that follows
+    PetscCall(SNESComputeFunction(ctx_.snes, x, F));
+    PetscCall(VecNorm(F, NORM_2, fnorm));
+  }
+  PetscFunctionReturn(0);
+}
+
+}  // namespace aries::solver
