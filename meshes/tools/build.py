@@ -162,6 +162,8 @@ CATALOG = {
         "test": {"h": 0.08, "tets": 4454},
         "default": {"h": 0.04, "tets": 31998},
         "paper": {"alias": "default"},
+        # voxel hexahedra: a second body for the local solve's check on rigid handles (-newton_local_solve)
+        "hexmid": {"voxel": 0.03, "hexes": 17783},
     },
     # two more, added when the bear's result was to be checked on shapes no default was measured on
     # (bench/degenerate_starts.py --meshes bull,homer)
@@ -659,13 +661,16 @@ HOMER_SCALE = 1.6  # source largest extent 1 (its height): 0.90 x 0.52 x 1.6 aft
 
 def build_cgal_solid(member, scale, p):
     V, F, tar = checked_surface(member, scale)
-    m = mk.TetMesh(*remeshed_surface_volume(V, F, p["h"]))
-    m.drop_unused_nodes()
-    m.orient()
+    if "voxel" in p:  # voxel hexahedra of the closed surface, as the bunny's hex sizes
+        m = voxel_volume(V, F, p["voxel"])
+    else:
+        m = mk.TetMesh(*remeshed_surface_volume(V, F, p["h"]))
+        m.drop_unused_nodes()
+        m.orient()
     return m, {}, {
         "source": tar + ":" + member,
         "transform": "scaled by %g, rotated y-up -> z-up: (x,y,z) -> (x,-z,y)" % scale,
-        "h": p["h"],
+        **({"voxel": p["voxel"]} if "voxel" in p else {"h": p["h"]}),
     }
 
 
