@@ -24,6 +24,27 @@ constexpr double kArmijo = 1e-4;  // sufficient decrease of a local update
 constexpr int kMaxCuts = 30;      // backtracking halvings of a local update
 constexpr PetscReal kLocalRtol = 1e-6;
 constexpr PetscInt kLocalMaxIts = 2000;
+
+// The local set's rows (the owned dofs marked in `mark`, which is made a 0/1 mask: LocalToGlobal summed each vertex's
+// marks over the ranks that share it).
+PetscErrorCode localRows(Vec mark, IS *is) {
+  std::vector<PetscInt> rows;
+  PetscInt lo, hi;
+  PetscScalar *m;
+  PetscFunctionBeginUser;
+  PetscCall(VecGetOwnershipRange(mark, &lo, &hi));
+  PetscCall(VecGetArray(mark, &m));
+  for (PetscInt i = 0; i < hi - lo; ++i)
+    if (m[i] != 0.0) {
+      rows.push_back(lo + i);
+      m[i] = 1.0;
+    }
+  PetscCall(VecRestoreArray(mark, &m));
+  PetscCall(ISCreateGeneral(PetscObjectComm((PetscObject)mark), static_cast<PetscInt>(rows.size()), rows.data(),
+                            PETSC_COPY_VALUES, is));
+  PetscFunctionReturn(0);
+}
+
 }  // namespace
 
 // The local set of the update that just ended (x - local_.before): 1 in `mark` (global) at the dofs of the moved
@@ -74,26 +95,6 @@ PetscErrorCode NewtonSolver::localSet(Vec x, Vec mark, bool *found) {
   PetscCall(ml.fromGlobal(mark, nullptr));
   PetscCall(ctx_.disc->setFocus(ml.get()));  // every cell that touches a vertex of the local set
   *found = true;
-  PetscFunctionReturn(0);
-}
-
-// The local set's rows (the owned dofs marked in `mark`, which is made a 0/1 mask: LocalToGlobal summed each vertex's
-// marks over the ranks that share it).
-static PetscErrorCode localRows(Vec mark, IS *is) {
-  std::vector<PetscInt> rows;
-  PetscInt lo, hi;
-  PetscScalar *m;
-  PetscFunctionBeginUser;
-  PetscCall(VecGetOwnershipRange(mark, &lo, &hi));
-  PetscCall(VecGetArray(mark, &m));
-  for (PetscInt i = 0; i < hi - lo; ++i)
-    if (m[i] != 0.0) {
-      rows.push_back(lo + i);
-      m[i] = 1.0;
-    }
-  PetscCall(VecRestoreArray(mark, &m));
-  PetscCall(ISCreateGeneral(PetscObjectComm((PetscObject)mark), static_cast<PetscInt>(rows.size()), rows.data(),
-                            PETSC_COPY_VALUES, is));
   PetscFunctionReturn(0);
 }
 
