@@ -4,7 +4,8 @@
 // Only the cells that touch them are evaluated (fem::Discretization::setFocus), their system is a few thousand dofs
 // solved by its own CG + Jacobi, and the safeguard and an Armijo backtracking guard each local update as they guard a
 // global one. The global Newton solve then goes on from the relaxed state: it alone certifies convergence, so a step
-// converges to the same tolerance with or without local solves (bench/results/local_solve.md measures what they save).
+// converges to the same tolerance with or without local solves (bench/results/interaction_local_solve_hex.md and
+// degenerate_starts_local_solve.md measure what they save and cost).
 #include "solver/local_vec.hpp"
 #include "solver/newton.hpp"
 
@@ -106,10 +107,8 @@ PetscErrorCode NewtonSolver::localSolve(Vec x, Vec F, PetscReal *fnorm) {
   bool found = false;
   PetscFunctionBeginUser;
   PetscCall(VecDuplicate(x, &mark));
-  PetscCall(ctx_.beginAssembly());
   PetscCall(localSet(x, mark, &found));
   if (!found) {
-    PetscCall(ctx_.endAssembly());
     PetscCall(VecDestroy(&mark));
     PetscFunctionReturn(0);
   }
@@ -138,8 +137,10 @@ PetscErrorCode NewtonSolver::localSolve(Vec x, Vec F, PetscReal *fnorm) {
     LocalVec xl(dm);
     PetscFunctionBeginUser;
     PetscCall(xl.fromGlobal(xg, disc));
+    PetscCall(ctx_.beginAssembly());
     PetscCall(disc->objective(xl.get(), e, nullptr));
     PetscCall(disc->cellGuard(xl.get(), guard));
+    PetscCall(ctx_.endAssembly());
     PetscFunctionReturn(0);
   };
   PetscReal energy;
@@ -151,16 +152,16 @@ PetscErrorCode NewtonSolver::localSolve(Vec x, Vec F, PetscReal *fnorm) {
       LocalVec xl(dm), gl(dm);
       PetscCall(xl.fromGlobal(x, disc));
       PetscCall(gl.zeros());
-      PetscCall(disc->gradient(xl.get(), gl.get()));
-      PetscCall(VecSet(g, 0.0));
-      PetscCall(DMLocalToGlobal(dm, gl.get(), ADD_VALUES, g));
+      PetscCall(gradientAt(xl.get(), gl.get(), g));
       // Backward Euler's bound on the local step (NewtonContext::stepBound; the local system, filtered, is at least
       // its mass term): where even the bound is within the tolerance there is nothing to solve for.
       PetscReal bound;
       PetscCall(VecPointwiseMult(p, g, mark));
       PetscCall(ctx_.stepBound(p, &bound));
       if (bound <= ctx_.stepTol) break;
+      PetscCall(ctx_.beginAssembly());
       PetscCall(disc->hessian(xl.get(), ctx_.J));  // the set's rows are whole: every cell that touches them
+      PetscCall(ctx_.endAssembly());
     }
     Vec gs, ps;
     PetscCall(MatDestroy(&Hs));
@@ -196,7 +197,6 @@ PetscErrorCode NewtonSolver::localSolve(Vec x, Vec F, PetscReal *fnorm) {
   }
   disc->setEigenFilter(filterBefore);
   PetscCall(disc->setFocus(nullptr));
-  PetscCall(ctx_.endAssembly());
   PetscCall(MatDestroy(&Hs));
   PetscCall(ISDestroy(&is));
   for (Vec *v : {&mark, &g, &p, &trial}) PetscCall(VecDestroy(v));

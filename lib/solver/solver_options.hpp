@@ -227,7 +227,7 @@ inline constexpr OptionDecl multigridMinDofs =
 inline constexpr const OptionDecl *kNewtonOptions[] = {
     &newtonTol,      &alphaMin,          &psdProjection,  &psdEigensystem,     &psdScope,     &psdAdaptiveTol,
     &newtonExactHessian, &newtonExactStart, &newtonSubspace,
-    &newtonSubspaceMax, &newtonExtrapolate, &newtonLocalSolve, &newtonRotation, &newtonForcing,  &liftIncrements, &newtonInertiaGuess,
-    &nearNullspace, &multigridMinDofs};
+    &newtonSubspaceMax, &newtonExtrapolate, &newtonLocalSolve, &newtonRotation, &newtonForcing,  &liftIncrements,
+    &newtonInertiaGuess, &nearNullspace, &multigridMinDofs};
 
 }  // namespace aries::solver::opt
