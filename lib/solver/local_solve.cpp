@@ -3,7 +3,7 @@
 // body's last inverted cells), up to K Newton iterations on those vertices and their neighbours alone, the rest held.
 // Only the cells that touch them are evaluated (fem::Discretization::setFocus), their system is a few thousand dofs
 // solved by its own CG + Jacobi, and the safeguard and an Armijo backtracking guard each local update as they guard a
-// global one. The global Newton solve then goes on from the relaxed state: it alone certifies convergence, so a step
+// global one (a full local step is doubled along negative curvature as a global one is, -newton_extrapolate). The global Newton solve then goes on from the relaxed state: it alone certifies convergence, so a step
 // converges to the same tolerance with or without local solves (bench/results/interaction_local_solve_hex.md and
 // degenerate_starts_local_solve.md measure what they save and cost).
 #include "solver/local_vec.hpp"
@@ -43,6 +43,70 @@ PetscErrorCode localRows(Vec mark, IS *is) {
   PetscCall(VecRestoreArray(mark, &m));
   PetscCall(ISCreateGeneral(PetscObjectComm((PetscObject)mark), static_cast<PetscInt>(rows.size()), rows.data(),
                             PETSC_COPY_VALUES, is));
+  PetscFunctionReturn(0);
+}
+
+// The focused potential (the set's cells, the other terms whole) and the alpha safeguard at trial states of one local
+// solve.
+struct LocalTrial {
+  NewtonContext &ctx;
+  const AlphaSafeguard &safeguard;
+  std::vector<double> bandTop;  // each cell's singular band's top (Discretization::mollifierBandTop)
+
+  PetscErrorCode evaluate(Vec xg, PetscReal *e, std::vector<double> *guard) {
+    LocalVec xl(ctx.disc->dm());
+    PetscFunctionBeginUser;
+    PetscCall(xl.fromGlobal(xg, ctx.disc));
+    PetscCall(ctx.beginAssembly());
+    PetscCall(ctx.disc->objective(xl.get(), e, nullptr));
+    PetscCall(ctx.disc->cellGuard(xl.get(), guard));
+    PetscCall(ctx.endAssembly());
+    PetscFunctionReturn(0);
+  }
+  // Whether any rank's guarded cell would end below alpha_min (collective).
+  PetscErrorCode rejected(const std::vector<double> &ref, const std::vector<double> &alpha, bool *bad) const {
+    int any = safeguard.rejects(ref, alpha, bandTop) ? 1 : 0;
+    PetscFunctionBeginUser;
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPI_INT, MPI_MAX, PetscObjectComm((PetscObject)ctx.J)));
+    *bad = any != 0;
+    PetscFunctionReturn(0);
+  }
+};
+
+// The local update x - t p from x (energy `energy`, guard values `ref`; slope = g . p > 0): t halved from 1 until the
+// safeguard accepts it and the energy falls by Armijo's share of t slope. A full step is then doubled, up to
+// `doublings` times, while each doubling lowers the energy by at least what the full step lowered it (the local
+// problems creep along negative or overstated curvature as the global ones do: -newton_extrapolate, SubspaceStep) and
+// the safeguard accepts it. *accepted false: no length was accepted; else `trial`, *e and *alpha hold the update.
+// p is overwritten by the doublings.
+PetscErrorCode searchLocalUpdate(LocalTrial &lt, Vec x, Vec p, PetscReal slope, PetscReal energy,
+                                 const std::vector<double> &ref, PetscInt doublings, Vec trial, PetscReal *e,
+                                 std::vector<double> *alpha, bool *accepted) {
+  bool bad = true;
+  double t = 1.0;
+  PetscFunctionBeginUser;
+  *accepted = false;
+  for (int k = 0; k < kMaxCuts && !*accepted; ++k, t *= 0.5) {
+    PetscCall(VecWAXPY(trial, -t, p, x));
+    PetscCall(lt.evaluate(trial, e, alpha));
+    PetscCall(lt.rejected(ref, *alpha, &bad));
+    *accepted = !bad && *e <= energy - kArmijo * t * slope;
+    if (*accepted) break;
+  }
+  if (!*accepted || t < 1.0) PetscFunctionReturn(0);
+  const double gain = energy - *e;
+  std::vector<double> alphaLonger;
+  for (PetscInt k = 0; k < doublings; ++k) {
+    PetscReal eLonger;
+    PetscCall(VecWAXPY(p, -1.0, x, trial));  // trial = x - s p_0, so 2 trial - x = x - 2 s p_0 (p is spent)
+    PetscCall(VecAYPX(p, 1.0, trial));
+    PetscCall(lt.evaluate(p, &eLonger, &alphaLonger));
+    PetscCall(lt.rejected(ref, alphaLonger, &bad));
+    if (bad || !(eLonger <= *e - gain)) break;
+    PetscCall(VecCopy(p, trial));
+    *e = eLonger;
+    alpha->swap(alphaLonger);
+  }
   PetscFunctionReturn(0);
 }
 
@@ -130,21 +194,11 @@ PetscErrorCode NewtonSolver::localSolve(Vec x, Vec F, PetscReal *fnorm) {
   // system is as indefinite as the update that made the set).
   const kernels::EigenFilter filterBefore = disc->eigenFilter();
   if (filterBefore == kernels::EigenFilter::None) disc->setEigenFilter(kernels::EigenFilter::Clamp);
-  std::vector<double> bandTop, ref, alpha;
-  disc->mollifierBandTop(&bandTop);
-  // The focused potential (the cells of the set, the other terms whole) and guard values at a global state.
-  auto evaluate = [&](Vec xg, PetscReal *e, std::vector<double> *guard) -> PetscErrorCode {
-    LocalVec xl(dm);
-    PetscFunctionBeginUser;
-    PetscCall(xl.fromGlobal(xg, disc));
-    PetscCall(ctx_.beginAssembly());
-    PetscCall(disc->objective(xl.get(), e, nullptr));
-    PetscCall(disc->cellGuard(xl.get(), guard));
-    PetscCall(ctx_.endAssembly());
-    PetscFunctionReturn(0);
-  };
+  LocalTrial lt{ctx_, *safeguard_, {}};
+  disc->mollifierBandTop(&lt.bandTop);
+  std::vector<double> ref, alpha;
   PetscReal energy;
-  PetscCall(evaluate(x, &energy, &ref));
+  PetscCall(lt.evaluate(x, &energy, &ref));
   Mat Hs = nullptr;
   const PetscInt before = ctx_.result.localIterations;
   for (PetscInt it = 0; it < opts_.local.maxIterations; ++it) {
@@ -180,15 +234,7 @@ PetscErrorCode NewtonSolver::localSolve(Vec x, Vec F, PetscReal *fnorm) {
     if (pinf <= ctx_.stepTol || !(slope > 0.0)) break;  // converged locally, or no descent
     bool accepted = false;
     PetscReal e = 0.0;
-    double t = 1.0;
-    for (int k = 0; k < kMaxCuts && !accepted; ++k, t *= 0.5) {
-      PetscCall(VecWAXPY(trial, -t, p, x));
-      PetscCall(evaluate(trial, &e, &alpha));
-      int bad = safeguard_->rejects(ref, alpha, bandTop) ? 1 : 0;
-      PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &bad, 1, MPI_INT, MPI_MAX, comm));
-      accepted = !bad && e <= energy - kArmijo * t * slope;
-      if (accepted) break;
-    }
+    PetscCall(searchLocalUpdate(lt, x, p, slope, energy, ref, opts_.subspace.extrapolate, trial, &e, &alpha, &accepted));
     if (!accepted) break;
     PetscCall(VecCopy(trial, x));
     energy = e;
