@@ -23,24 +23,23 @@ inline void addPointGradient(const Mat<R, C> &wP, const Mat<NV, C> &W, Vec<NV * 
 }
 
 // Adds B^T H B to the element Hessian K ((NV R)^2, row-major): K[(v,i),(u,k)] += sum_jl H[(i,j),(k,l)] W(v,j) W(u,l).
+// Written as 2 R small fixed-size products (H's column blocks times W^T, then W times HB's row blocks), which Eigen
+// vectorizes (the same flops as scalar loops over the same sums; those loops were the largest single cost of a
+// hexahedral Hessian assembly).
 template <int R, int C, int NV, class KMat>
 inline void addPointHessian(const Mat<R * C, R * C> &H, const Mat<NV, C> &W, KMat *K) {
   constexpr int NF = R * C, NDOF = NV * R;
-  Eigen::Matrix<double, NF, NDOF> HB;  // H * B, B[(k,l),(u,k')] = delta_kk' W(u,l)
-  for (int row = 0; row < NF; ++row)
-    for (int u = 0; u < NV; ++u)
-      for (int k = 0; k < R; ++k) {
-        double s = 0.0;
-        for (int l = 0; l < C; ++l) s += H(row, k * C + l) * W(u, l);
-        HB(row, u * R + k) = s;
-      }
-  for (int v = 0; v < NV; ++v)
-    for (int i = 0; i < R; ++i)
-      for (int col = 0; col < NDOF; ++col) {
-        double s = 0.0;
-        for (int j = 0; j < C; ++j) s += W(v, j) * HB(i * C + j, col);
-        (*K)(v * R + i, col) += s;
-      }
+  // HB = H B, B[(k,l),(u,k')] = delta_kk' W(u,l): HB(:, u R + k) = H(:, k C .. k C + C - 1) W(u, :)^T
+  Eigen::Matrix<double, NF, NDOF> HB;
+  for (int k = 0; k < R; ++k) {
+    const Eigen::Matrix<double, NF, NV> block = H.template middleCols<C>(k * C).lazyProduct(W.transpose());
+    for (int u = 0; u < NV; ++u) HB.col(u * R + k) = block.col(u);
+  }
+  // K((v,i), :) += sum_j W(v,j) HB(i C + j, :)
+  for (int i = 0; i < R; ++i) {
+    const Eigen::Matrix<double, NV, NDOF> rows = W.lazyProduct(HB.template middleRows<C>(i * C));
+    for (int v = 0; v < NV; ++v) K->row(v * R + i) += rows.row(v);
+  }
 }
 
 // F at one point from the element's positions X (NV x R, one vertex per row): F = X^T W.
