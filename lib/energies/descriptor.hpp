@@ -69,8 +69,11 @@ struct EnergyInput {
   const HessianFilter *filter;
   bool filtered() const { return filter && kernels::wants(order, kernels::Order::Hessian); }
   // The numeric eigenvalue filter (psd_projection.hpp), for energies without a closed-form eigensystem.
-  kernels::Derivs<R * C> finish(kernels::Derivs<R * C> &&d) const {
+  void filterNumerically(kernels::Derivs<R * C> &d) const {
     if (filtered()) d.hess = kernels::filterEigenvalues<R * C>(d.hess, filter->filter);
+  }
+  kernels::Derivs<R * C> finish(kernels::Derivs<R * C> &&d) const {
+    filterNumerically(d);
     return std::move(d);
   }
 };

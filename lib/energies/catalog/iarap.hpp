@@ -7,16 +7,18 @@
 #include "energies/descriptor.hpp"
 #include "energies/isotropic_arap_tet.hpp"
 
-#include <optional>
-
 namespace aries::energies {
 
 // The fused tet evaluation with weight w (iarap_lin's value at every F, iarap's outside the fix's band).
+// One named result returned (no copy of its 91 numbers); filtered by the closed-form eigensystem where the filter is
+// analytic, else by the numeric one (EnergyInput::finish's).
 inline kernels::Derivs<9> fusedIsotropicArapTet(const EnergyInput<3, 3> &in, const kernels::RootDerivatives<3> &rd,
                                                 double w) {
-  if (in.filtered() && in.filter->analytic)
-    return isotropicArapTet(in.F, rd, w, 2.0 * w, 3.0 * w, in.m.lambda, 1.0, in.order, &in.filter->filter);
-  return in.finish(isotropicArapTet(in.F, rd, w, 2.0 * w, 3.0 * w, in.m.lambda, 1.0, in.order));
+  const bool analytic = in.filtered() && in.filter->analytic;
+  kernels::Derivs<9> out = isotropicArapTet(in.F, rd, w, 2.0 * w, 3.0 * w, in.m.lambda, 1.0, in.order,
+                                            analytic ? &in.filter->filter : nullptr);
+  if (!analytic) in.filterNumerically(out);
+  return out;
 }
 // The root's derivatives the fused evaluation needs: the closed-form filtered Hessian needs only R.
 inline kernels::RootDerivatives<3> fusedRootDerivatives(const EnergyInput<3, 3> &in) {
@@ -24,12 +26,14 @@ inline kernels::RootDerivatives<3> fusedRootDerivatives(const EnergyInput<3, 3> 
       kernels::wants(in.order, kernels::Order::Hessian) && !(in.filtered() && in.filter->analytic);
   return kernels::rootDerivatives(in.F, chainRuleHessian ? 2 : 1);
 }
-// The fused evaluation with weight w where the singularity fix is inactive; none inside its band, where the caller's
-// generic direction terms apply.
-inline std::optional<kernels::Derivs<9>> fusedOutsideFixBand(const EnergyInput<3, 3> &in, double w) {
+// The fused evaluation with weight w where the singularity fix is inactive, else general() (the caller's generic
+// direction terms, which handle the fix's band). Both are returned as prvalues, so the 91 numbers of a Derivs<9> are
+// written once (a std::optional in between cost two copies of them per point, a measurable share of an assembly).
+template <class General>
+inline kernels::Derivs<9> fusedOutsideFixBand(const EnergyInput<3, 3> &in, double w, General &&general) {
   const auto rd = fusedRootDerivatives(in);
-  if (!stretchFixInactive(in.m.singularity, in.F, rd.root.alpha)) return std::nullopt;
-  return fusedIsotropicArapTet(in, rd, w);
+  if (stretchFixInactive(in.m.singularity, in.F, rd.root.alpha)) return fusedIsotropicArapTet(in, rd, w);
+  return general();
 }
 
 struct IarapEnergy : EnergyDefaults {
@@ -43,7 +47,7 @@ struct IarapEnergy : EnergyDefaults {
   static kernels::Derivs<R * C> evaluate(const EnergyInput<R, C> &in) {
     if constexpr (R == 3 && C == 3) {
       if (kernels::isIsotropic<3>(in.m.weight3))
-        if (auto fused = fusedOutsideFixBand(in, in.m.weight3(0, 0))) return *fused;
+        return fusedOutsideFixBand(in, in.m.weight3(0, 0), [&] { return layeredArap(in); });
     }
     return layeredArap(in);
   }

@@ -26,8 +26,14 @@ struct ShapeTargetEnergy : EnergyDefaults {
   static kernels::Derivs<R * C> evaluate(const EnergyInput<R, C> &in) {
     if constexpr (R == 3 && C == 3) {
       if (in.cell.target == Mat<3, 3>::Identity())  // the tensor term D = I - S_t vanishes (Eq. 65): iarap_lin, mu/2
-        if (auto fused = fusedOutsideFixBand(in, 0.5 * in.m.mu)) return *fused;
+        return fusedOutsideFixBand(in, 0.5 * in.m.mu, [&] { return general(in); });
     }
+    return general(in);
+  }
+
+ private:
+  template <int R, int C>
+  static kernels::Derivs<R * C> general(const EnergyInput<R, C> &in) {
     return rootEnergy(in, [&](const auto &ctx, const auto &terms, auto &out) {
       out = shapeTargetShear<R, C>(ctx, terms, in.cell.target, in.m.mu);
       addVolume(in, ctx, in.cell.target.determinant(), out);
