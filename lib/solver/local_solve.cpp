@@ -3,8 +3,9 @@
 // body's last inverted cells), up to K Newton iterations on those vertices and their neighbours alone, the rest held.
 // Only the cells that touch them are evaluated (fem::Discretization::setFocus), their system is a few thousand dofs
 // solved by its own CG + Jacobi, and the safeguard and an Armijo backtracking guard each local update as they guard a
-// global one (a full local step is doubled along negative curvature as a global one is, -newton_extrapolate). The global Newton solve then goes on from the relaxed state: it alone certifies convergence, so a step
-// converges to the same tolerance with or without local solves (bench/results/interaction_local_solve_hex.md and
+// global one (a full local step is doubled along negative curvature as a global one is, -newton_extrapolate). The
+// global Newton solve then goes on from the relaxed state: it alone certifies convergence, so a step converges to the
+// same tolerance with or without local solves (bench/results/interaction_local_solve_hex.md and
 // degenerate_starts_local_solve.md measure what they save and cost).
 #include "solver/local_vec.hpp"
 #include "solver/newton.hpp"
@@ -86,7 +87,7 @@ PetscErrorCode searchLocalUpdate(LocalTrial &lt, Vec x, Vec p, PetscReal slope, 
   double t = 1.0;
   PetscFunctionBeginUser;
   *accepted = false;
-  for (int k = 0; k < kMaxCuts && !*accepted; ++k, t *= 0.5) {
+  for (int k = 0; k < kMaxCuts; ++k, t *= 0.5) {
     PetscCall(VecWAXPY(trial, -t, p, x));
     PetscCall(lt.evaluate(trial, e, alpha));
     PetscCall(lt.rejected(ref, *alpha, &bad));
@@ -234,7 +235,8 @@ PetscErrorCode NewtonSolver::localSolve(Vec x, Vec F, PetscReal *fnorm) {
     if (pinf <= ctx_.stepTol || !(slope > 0.0)) break;  // converged locally, or no descent
     bool accepted = false;
     PetscReal e = 0.0;
-    PetscCall(searchLocalUpdate(lt, x, p, slope, energy, ref, opts_.subspace.extrapolate, trial, &e, &alpha, &accepted));
+    PetscCall(
+        searchLocalUpdate(lt, x, p, slope, energy, ref, opts_.subspace.extrapolate, trial, &e, &alpha, &accepted));
     if (!accepted) break;
     PetscCall(VecCopy(trial, x));
     energy = e;

@@ -11,7 +11,7 @@ namespace aries::energies {
 
 // The fused tet evaluation with weight w (iarap_lin's value at every F, iarap's outside the fix's band).
 // One named result returned (no copy of its 91 numbers); filtered by the closed-form eigensystem where the filter is
-// analytic, else by the numeric one (EnergyInput::finish's).
+// analytic, else by the numeric one (EnergyInput::filterNumerically).
 inline kernels::Derivs<9> fusedIsotropicArapTet(const EnergyInput<3, 3> &in, const kernels::RootDerivatives<3> &rd,
                                                 double w) {
   const bool analytic = in.filtered() && in.filter->analytic;
