@@ -54,22 +54,23 @@ struct LocalTrial {
   const AlphaSafeguard &safeguard;
   std::vector<double> bandTop;  // each cell's singular band's top (Discretization::mollifierBandTop)
 
-  PetscErrorCode evaluate(Vec xg, PetscReal *e, std::vector<double> *guard) {
+  // The guard values at xg and, unless the safeguard rejects them against `ref` on some rank (*bad; collective; no
+  // check without `ref`), the focused potential *e: a rejected trial needs no energy evaluation.
+  PetscErrorCode evaluate(Vec xg, const std::vector<double> *ref, std::vector<double> *guard, PetscReal *e,
+                          bool *bad) {
     LocalVec xl(ctx.disc->dm());
+    int any = 0;
     PetscFunctionBeginUser;
     PetscCall(xl.fromGlobal(xg, ctx.disc));
     PetscCall(ctx.beginAssembly());
-    PetscCall(ctx.disc->objective(xl.get(), e, nullptr));
     PetscCall(ctx.disc->cellGuard(xl.get(), guard));
+    if (ref) {
+      any = safeguard.rejects(*ref, *guard, bandTop) ? 1 : 0;
+      PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPI_INT, MPI_MAX, PetscObjectComm((PetscObject)xg)));
+    }
+    if (bad) *bad = any != 0;
+    if (!any) PetscCall(ctx.disc->objective(xl.get(), e, nullptr));
     PetscCall(ctx.endAssembly());
-    PetscFunctionReturn(0);
-  }
-  // Whether any rank's guarded cell would end below alpha_min (collective).
-  PetscErrorCode rejected(const std::vector<double> &ref, const std::vector<double> &alpha, bool *bad) const {
-    int any = safeguard.rejects(ref, alpha, bandTop) ? 1 : 0;
-    PetscFunctionBeginUser;
-    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPI_INT, MPI_MAX, PetscObjectComm((PetscObject)ctx.J)));
-    *bad = any != 0;
     PetscFunctionReturn(0);
   }
 };
@@ -89,8 +90,7 @@ PetscErrorCode searchLocalUpdate(LocalTrial &lt, Vec x, Vec p, PetscReal slope, 
   *accepted = false;
   for (int k = 0; k < kMaxCuts; ++k, t *= 0.5) {
     PetscCall(VecWAXPY(trial, -t, p, x));
-    PetscCall(lt.evaluate(trial, e, alpha));
-    PetscCall(lt.rejected(ref, *alpha, &bad));
+    PetscCall(lt.evaluate(trial, &ref, alpha, e, &bad));
     *accepted = !bad && *e <= energy - kArmijo * t * slope;
     if (*accepted) break;
   }
@@ -101,8 +101,7 @@ PetscErrorCode searchLocalUpdate(LocalTrial &lt, Vec x, Vec p, PetscReal slope, 
     PetscReal eLonger;
     PetscCall(VecWAXPY(p, -1.0, x, trial));  // trial = x - s p_0, so 2 trial - x = x - 2 s p_0 (p is spent)
     PetscCall(VecAYPX(p, 1.0, trial));
-    PetscCall(lt.evaluate(p, &eLonger, &alphaLonger));
-    PetscCall(lt.rejected(ref, alphaLonger, &bad));
+    PetscCall(lt.evaluate(p, &ref, &alphaLonger, &eLonger, &bad));
     if (bad || !(eLonger <= *e - gain)) break;
     PetscCall(VecCopy(p, trial));
     *e = eLonger;
@@ -199,7 +198,7 @@ PetscErrorCode NewtonSolver::localSolve(Vec x, Vec F, PetscReal *fnorm) {
   disc->mollifierBandTop(&lt.bandTop);
   std::vector<double> ref, alpha;
   PetscReal energy;
-  PetscCall(lt.evaluate(x, &energy, &ref));
+  PetscCall(lt.evaluate(x, nullptr, &ref, &energy, nullptr));
   Mat Hs = nullptr;
   const PetscInt before = ctx_.result.localIterations;
   for (PetscInt it = 0; it < opts_.local.maxIterations; ++it) {

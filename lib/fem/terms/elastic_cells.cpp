@@ -49,11 +49,10 @@ PetscErrorCode ElasticCells<R, C, NV>::addHessian(const PetscScalar *x, const He
         J, verts_, cells_.size(), [&](size_t c) { return cells_[c].vertex.data(); },
         [&](size_t c) { return cells_[c].owned; }, &direct));
   if (direct) PetscCall(scatter_.begin());
-  const size_t count = focused_ ? focus_.size() : cells_.size();
-  for (size_t i = 0; i < count; ++i) {
-    const size_t c = focused_ ? focus_[i] : i;
+  PetscErrorCode ierr = 0;  // the first failed insertion: the other cells are skipped and it is returned below
+  forEachOwnedCell([&](size_t c) {
     const Cell &cell = cells_[c];
-    if (!cell.owned || productSkips<NV, R>(verts_, cell.vertex, how)) continue;
+    if (ierr || productSkips<NV, R>(verts_, cell.vertex, how)) return;
     K.setZero();
     for (int q = 0; q < NQ; ++q) {  // filtered per point, or summed unfiltered and the element filtered below
       const auto d = how.wholeElement ? energies::evaluateEnergy<R, C>(materialOf(c), dataOf(c),
@@ -66,9 +65,10 @@ PetscErrorCode ElasticCells<R, C, NV>::addHessian(const PetscScalar *x, const He
     if (how.wholeElement && how.filter.filter != kernels::EigenFilter::None) {
       K = kernels::filterEigenvalues<NDOF>(kernels::Mat<NDOF, NDOF>(K), how.filter.filter);
     }
-    if (direct) PetscCall(scatter_.add(J, verts_, c, cell.vertex, K.data()));
-    else PetscCall((addElementMatrix<NV, R>(verts_, cell.vertex, K.data(), how, J)));
-  }
+    ierr = direct ? scatter_.add(J, verts_, c, cell.vertex, K.data())
+                  : addElementMatrix<NV, R>(verts_, cell.vertex, K.data(), how, J);
+  });
+  PetscCall(ierr);
   if (direct) PetscCall(scatter_.end());
   PetscFunctionReturn(0);
 }
