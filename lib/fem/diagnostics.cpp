@@ -135,18 +135,37 @@ PetscErrorCode DiscretizationT<R, C, NV>::markFocusVertices(Vec outLocal) const 
 }
 
 template <int R, int C, int NV>
-PetscErrorCode DiscretizationT<R, C, NV>::cellGuard(Vec xLocal, std::vector<double> *guard) const {
+PetscErrorCode DiscretizationT<R, C, NV>::cellGuard(Vec xLocal, double exactBelow, std::vector<double> *guard) const {
+  const PetscScalar *x;
   PetscFunctionBeginUser;
-  PetscCall(cellAlpha(xLocal, guard));
+  PetscCall(VecGetArrayRead(xLocal, &x));
+  if (cells_.focused()) {
+    guard->assign(cells_.size(), std::numeric_limits<double>::infinity());
+    for (size_t c : cells_.focus()) (*guard)[c] = cells_.guard(c, x, exactBelow);
+  } else {
+    guard->resize(cells_.size());
+    for (size_t c = 0; c < cells_.size(); ++c) (*guard)[c] = cells_.guard(c, x, exactBelow);
+  }
   if constexpr (R == 2 && C == 2) {
-    if (keepOrientation_) {
-      const PetscScalar *x;
-      PetscCall(VecGetArrayRead(xLocal, &x));
+    if (keepOrientation_)
       for (size_t c = 0; c < cells_.size(); ++c)
         (*guard)[c] = std::min((*guard)[c], cells_.deformationGradient(c, 0, x).determinant());
-      PetscCall(VecRestoreArrayRead(xLocal, &x));
-    }
   }
+  PetscCall(VecRestoreArrayRead(xLocal, &x));
+  PetscFunctionReturn(0);
+}
+
+// The cells' guard values exact below the smallest alpha found so far: a cell whose bound clears it cannot be the
+// minimum, and the cell that is has its alpha below every earlier bound, so it is taken exactly.
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::minAlpha(Vec xLocal, PetscReal *min) const {
+  const PetscScalar *x;
+  PetscFunctionBeginUser;
+  double local = PETSC_MAX_REAL;
+  PetscCall(VecGetArrayRead(xLocal, &x));
+  for (size_t c = 0; c < cells_.size(); ++c) local = std::min(local, cells_.guard(c, x, local));
+  PetscCall(VecRestoreArrayRead(xLocal, &x));
+  PetscCallMPI(MPI_Allreduce(&local, min, 1, MPI_DOUBLE, MPI_MIN, comm()));
   PetscFunctionReturn(0);
 }
 

@@ -41,8 +41,10 @@ class DiagnosticsView {
   virtual ~DiagnosticsView() = default;
   // Elastic energy only (for reports).
   virtual PetscErrorCode elasticEnergy(Vec xLocal, PetscReal *value) const = 0;
-  // alpha of every local cell at a local state; minimum over all cells (collective).
+  // alpha of every local cell at a local state.
   virtual PetscErrorCode cellAlpha(Vec xLocal, std::vector<double> *alpha) const = 0;
+  // The smallest alpha over all local cells of all ranks (collective; NaNs skipped, as std::min skips them).
+  virtual PetscErrorCode minAlpha(Vec xLocal, PetscReal *min) const = 0;
   virtual PetscErrorCode cellQuantities(Vec xLocal, CellQuantities *q) const = 0;
   // Stress and strain measures of every local cell in the mesh's 3D frame (kernels/stress_measures.hpp).
   virtual PetscErrorCode cellStressMeasures(Vec xLocal, std::vector<kernels::StressMeasures> *out) const = 0;
@@ -200,8 +202,10 @@ class Discretization {
   virtual PetscErrorCode updateBarrierFallback(Vec xLocal, double threshold, PetscInt *count) = 0;
 
   // The quantity the safeguard keeps above -alpha_min: alpha, or min(alpha, det F) for planar elements under
-  // -keep_orientation (in 2D alpha = s1 + s2 stays positive when a triangle flips, det F does not).
-  virtual PetscErrorCode cellGuard(Vec xLocal, std::vector<double> *guard) const = 0;
+  // -keep_orientation (in 2D alpha = s1 + s2 stays positive when a triangle flips, det F does not). Exact below
+  // `exactBelow`; where it is at least that, any value in [exactBelow, it] (ElasticCells::guard): the safeguard
+  // compares it with thresholds up to exactBelow only, and near-rest cells then need no root.
+  virtual PetscErrorCode cellGuard(Vec xLocal, double exactBelow, std::vector<double> *guard) const = 0;
   // Top of each local cell's singular band for the safeguard: the mollifier's eps for cells evaluated with the
   // mollifier (below it their I4/I6 terms are the constant proxy, Eq. 33: nothing is singular there), 0 otherwise.
   virtual void mollifierBandTop(std::vector<double> *top) const = 0;

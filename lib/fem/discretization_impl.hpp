@@ -54,7 +54,8 @@ class DiscretizationT final : public Discretization, public DiagnosticsView, pub
   PetscErrorCode elasticEnergy(Vec xLocal, PetscReal *value) const override;
   PetscErrorCode updateBarrierFallback(Vec xLocal, double threshold, PetscInt *count) override;
   PetscErrorCode cellAlpha(Vec xLocal, std::vector<double> *alpha) const override;
-  PetscErrorCode cellGuard(Vec xLocal, std::vector<double> *guard) const override;
+  PetscErrorCode minAlpha(Vec xLocal, PetscReal *min) const override;
+  PetscErrorCode cellGuard(Vec xLocal, double exactBelow, std::vector<double> *guard) const override;
   PetscErrorCode cellQuantities(Vec xLocal, CellQuantities *q) const override;
   PetscErrorCode barrierActiveCells(Vec xLocal, PetscInt *count) const override;
   PetscErrorCode mollifierBandCells(Vec xLocal, PetscInt *count) const override;

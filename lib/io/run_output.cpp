@@ -269,11 +269,7 @@ PetscErrorCode RunOutput::record(const solver::Simulation &sim, const solver::St
   st.coarseLinear = rep.coarse.linearIterations;
   st.coarseStart = rep.coarseStart;
   PetscCall(disc.diagnostics().elasticEnergy(xLocal, &st.energy));
-  std::vector<double> alpha;
-  PetscCall(disc.diagnostics().cellAlpha(xLocal, &alpha));
-  double amin = PETSC_MAX_REAL;
-  for (double a : alpha) amin = std::min(amin, a);
-  PetscCallMPI(MPI_Allreduce(&amin, &st.minAlpha, 1, MPI_DOUBLE, MPI_MIN, comm_));
+  PetscCall(disc.diagnostics().minAlpha(xLocal, &st.minAlpha));
   PetscCall(disc.diagnostics().maxDisplacement(xLocal, &st.maxDisplacement));
   PetscCall(stats_.append(st));
   if (!opts_.reactions.empty())

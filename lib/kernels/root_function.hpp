@@ -133,6 +133,12 @@ inline RootValue rootValue(const Mat<3, 3> &F) {
   return r;
 }
 
+// A lower bound of the 3x3 alpha without the root: alpha = 8 (s1 + s2)(s1 + s3)(s2 + s3) (Eqs. 27-28, signed singular
+// values) is at least 64 J. Where J > 0 all three are positive and s_i + s_j >= 2 sqrt(s_i s_j) (AM-GM), so alpha >=
+// 64 s1 s2 s3, with equality where F is a multiple of a rotation; where J <= 0, alpha >= 0 >= 64 J. A test of alpha
+// against a threshold at or below this bound needs no root (fem/terms/elastic_cells.hpp: the safeguard's guard).
+inline double alphaLowerBound(const Mat<3, 3> &F) { return 64.0 * F.determinant(); }
+
 // 2x2: f = sqrt(I_C + 2J) = |(F00 + F11, F10 - F01)|, a sum of squares without cancellation; alpha = f (Eq. 29).
 inline RootValue rootValue(const Mat<2, 2> &F) {
   RootValue r;

@@ -187,8 +187,9 @@ PetscErrorCode NewtonSolver::liftedUpdate(Vec x, double target, bool *advanced, 
   PetscCall(setLoad(target));  // the surface loads and fields at the target
   PetscCall(xl.fromGlobal(x, &disc));
   PetscCall(VecAXPY(xl.get(), -1.0, dl.get()));
-  std::vector<double> alphaRef;
-  PetscCall(disc.cellGuard(xl.get(), &alphaRef));
+  std::vector<double> alphaRef, bandTop;
+  disc.mollifierBandTop(&bandTop);
+  PetscCall(disc.cellGuard(xl.get(), safeguard_->exactBelow(bandTop), &alphaRef));
   {  // the coupling H_fd d, a global vector (only the cells next to the supports are evaluated)
     LocalVec hd(dm);
     PetscCall(hd.zeros());

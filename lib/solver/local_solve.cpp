@@ -63,7 +63,7 @@ struct LocalTrial {
     PetscFunctionBeginUser;
     PetscCall(xl.fromGlobal(xg, ctx.disc));
     PetscCall(ctx.beginAssembly());
-    PetscCall(ctx.disc->cellGuard(xl.get(), guard));
+    PetscCall(ctx.disc->cellGuard(xl.get(), safeguard.exactBelow(bandTop), guard));
     if (ref) {
       any = safeguard.rejects(*ref, *guard, bandTop) ? 1 : 0;
       PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPI_INT, MPI_MAX, PetscObjectComm((PetscObject)xg)));

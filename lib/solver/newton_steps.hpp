@@ -304,6 +304,9 @@ class AlphaSafeguard final : public NewtonStep {
                const std::vector<double> &bandTop) const;
   // Each local cell's guard value (alpha; fem::Discretization::cellGuard) at a global state, Dirichlet values filled.
   PetscErrorCode alphasAt(NewtonContext &ctx, Vec xGlobal, std::vector<double> *alpha);
+  // The largest threshold rejects() compares guard values with, given the cells' singular bands' tops: guard values
+  // need be exact only below it (cellGuard's exactBelow).
+  double exactBelow(const std::vector<double> &bandTop) const;
 
  private:
   SafeguardOptions opts_;

@@ -29,7 +29,8 @@ PetscErrorCode AlphaSafeguard::alphasAt(NewtonContext &ctx, Vec xGlobal, std::ve
   PetscCall(memoState_.matches(xl.get(), &sameState));
   if (!(sameState && memoDisc_ == ctx.disc)) {
     memoDisc_ = nullptr;  // until the alphas below exist
-    PetscCall(ctx.disc->cellGuard(xl.get(), &memoAlpha_));
+    ctx.disc->mollifierBandTop(&bandTop_);
+    PetscCall(ctx.disc->cellGuard(xl.get(), exactBelow(bandTop_), &memoAlpha_));
     memoDisc_ = ctx.disc;
   }
   *alpha = memoAlpha_;
@@ -54,6 +55,12 @@ PetscErrorCode AlphaSafeguard::acceptable(NewtonContext &ctx, Vec xGlobal, const
   PetscCallMPI(MPI_Allreduce(&bad, &anyBad, 1, MPI_INT, MPI_MAX, comm));
   *ok = !anyBad;
   PetscFunctionReturn(0);
+}
+
+double AlphaSafeguard::exactBelow(const std::vector<double> &bandTop) const {
+  double top = kGuardMargin * opts_.alphaMin;  // the guarded test's; alpha_min itself is below it
+  for (double b : bandTop) top = std::max(top, b);
+  return top;
 }
 
 bool AlphaSafeguard::rejects(const std::vector<double> &reference, const std::vector<double> &alpha,

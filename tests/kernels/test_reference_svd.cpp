@@ -110,6 +110,8 @@ void checkAgainstSvd() {
     EXPECT_LT(ea, kRefTol) << "alpha: " << what;
     // elementAlpha / rootValue (what the line search reads) are the same alpha.
     EXPECT_EQ(rootValue(F).alpha, alpha);
+    if constexpr (R == 3 && C == 3)  // the root-free lower bound the safeguard's guard reads (root_function.hpp)
+      EXPECT_LE(alphaLowerBound(F), ref.alpha + kRefTol * std::pow(F.norm(), 3)) << "alpha bound: " << what;
     const std::string key = std::string(shapeTag<R, C>()) + " " + smp.family;
     recordError("SVD ref f     " + key, ef);
     recordError("SVD ref R     " + key, eR);
@@ -122,6 +124,28 @@ void checkAgainstSvd() {
 TEST(SvdReference, RootRotationI4I6Alpha_3x3) { checkAgainstSvd<3, 3>(); }
 TEST(SvdReference, RootRotationI4I6Alpha_2x2) { checkAgainstSvd<2, 2>(); }
 TEST(SvdReference, RootRotationI4I6Alpha_3x2) { checkAgainstSvd<3, 2>(); }
+
+// alphaLowerBound = 64 J: equal to alpha where F is a multiple of a rotation, below it elsewhere (AM-GM on the pair
+// sums), and no bound at all where J <= 0 but below alpha >= 0 there too.
+TEST(SvdReference, AlphaLowerBoundIs64J_3x3) {
+  std::mt19937 rng(29);
+  std::normal_distribution<double> n01(0.0, 1.0);
+  for (int k = 0; k < 200; ++k) {
+    Mat<3, 3> A;
+    for (int i = 0; i < 9; ++i) A(i / 3, i % 3) = n01(rng);
+    const double c = std::exp(n01(rng));
+    const Mat<3, 3> Rot = analyticRotation<3, 3>(A);  // a rotation (A's polar factor)
+    const Mat<3, 3> conformal = c * Rot;
+    EXPECT_NEAR(alphaLowerBound(conformal), rootValue(conformal).alpha, 1e-12 * rootValue(conformal).alpha);
+    const auto ref = svdReference<3, 3>(A, Vec<3>::UnitX(), Vec<3>::UnitY());
+    EXPECT_LE(alphaLowerBound(A), ref.alpha + kRefTol * std::pow(A.norm(), 3));
+    if (A.determinant() > 0.0) {  // stretched: strictly below unless the three singular values are equal
+      EXPECT_LT(alphaLowerBound(A), ref.alpha);
+    } else {
+      EXPECT_LE(alphaLowerBound(A), 0.0);
+    }
+  }
+}
 
 // ---- Part 2: near the singular set ----------------------------------------------------------------------------------
 

@@ -91,6 +91,27 @@ class ElasticCells final : public Term {
     }
     return a;
   }
+  // The safeguard's guard value: the cell's alpha where it is below `exactBelow`, elsewhere some value in [exactBelow,
+  // alpha], so a test of it against any threshold up to exactBelow reads as the same test of alpha. A 3x3 point
+  // whose alphaLowerBound (64 J, kernels/root_function.hpp) clears exactBelow needs no root: cells near their rest
+  // shape, most of any scene, cost a determinant instead of the root's Newton iteration. NaN as alpha(): a non-finite
+  // bound takes the root.
+  double guard(size_t c, const PetscScalar *x, double exactBelow) const {
+    double g = std::numeric_limits<double>::infinity();
+    for (int q = 0; q < NQ; ++q) {
+      const kernels::Mat<R, C> F = deformationGradient(c, q, x);
+      double gq;
+      if constexpr (R == 3 && C == 3) {
+        const double bound = kernels::alphaLowerBound(F);
+        gq = (bound >= exactBelow && std::isfinite(bound)) ? bound : energies::elementAlpha<R, C>(F);
+      } else {
+        gq = energies::elementAlpha<R, C>(F);
+      }
+      if (std::isnan(gq)) return gq;
+      g = std::min(g, gq);
+    }
+    return g;
+  }
   // A local solve's focus (Discretization::setFocus): only the owned cells with a vertex in `vertexMask` (per local
   // vertex) are summed by addEnergy, addGradient, addHessian and addCurvature; nullptr: every owned cell again.
   void setFocus(const std::vector<char> *vertexMask) {
