@@ -314,7 +314,7 @@ class AlphaSafeguard final : public NewtonStep {
   // The last state alphasAt evaluated (its local values, boundary values included, and the discretization) and its
   // alphas: an update checks the same state up to three times (the accepted point as the next direction's reference,
   // the full step before the line search, and the point the line search accepts, which is that full step when it
-  // takes it), and each evaluation is a pass over every cell's root function (kernels/root_function.hpp).
+  // takes it), and each evaluation is a pass over every cell (the root only where 64 J does not clear the thresholds).
   const fem::Discretization *memoDisc_ = nullptr;  // null: memoAlpha_ belongs to no state
   LocalStateKey memoState_;
   std::vector<double> memoAlpha_;
