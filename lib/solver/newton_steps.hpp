@@ -315,9 +315,11 @@ class AlphaSafeguard final : public NewtonStep {
   // alphas: an update checks the same state up to three times (the accepted point as the next direction's reference,
   // the full step before the line search, and the point the line search accepts, which is that full step when it
   // takes it), and each evaluation is a pass over every cell (the root only where 64 J does not clear the thresholds).
+  // The values are exact below memoExactBelow_ only: a memo taken under other thresholds is not reused.
   const fem::Discretization *memoDisc_ = nullptr;  // null: memoAlpha_ belongs to no state
   LocalStateKey memoState_;
   std::vector<double> memoAlpha_;
+  double memoExactBelow_ = 0.0;
 };
 
 }  // namespace aries::solver

@@ -27,11 +27,13 @@ PetscErrorCode AlphaSafeguard::alphasAt(NewtonContext &ctx, Vec xGlobal, std::ve
   PetscFunctionBeginUser;
   PetscCall(xl.fromGlobal(xGlobal, ctx.disc));
   PetscCall(memoState_.matches(xl.get(), &sameState));
-  if (!(sameState && memoDisc_ == ctx.disc)) {
+  ctx.disc->mollifierBandTop(&bandTop_);  // the bands move with the barrier's fallback (at a step's start)
+  const double cap = exactBelow(bandTop_);
+  if (!(sameState && memoDisc_ == ctx.disc && memoExactBelow_ == cap)) {
     memoDisc_ = nullptr;  // until the alphas below exist
-    ctx.disc->mollifierBandTop(&bandTop_);
-    PetscCall(ctx.disc->cellGuard(xl.get(), exactBelow(bandTop_), &memoAlpha_));
+    PetscCall(ctx.disc->cellGuard(xl.get(), cap, &memoAlpha_));
     memoDisc_ = ctx.disc;
+    memoExactBelow_ = cap;
   }
   *alpha = memoAlpha_;
   PetscFunctionReturn(0);
@@ -43,8 +45,7 @@ PetscErrorCode AlphaSafeguard::acceptable(NewtonContext &ctx, Vec xGlobal, const
   MPI_Comm comm;
   PetscFunctionBeginUser;
   PetscCall(PetscObjectGetComm((PetscObject)xGlobal, &comm));
-  PetscCall(alphasAt(ctx, xGlobal, &alpha));
-  ctx.disc->mollifierBandTop(&bandTop_);
+  PetscCall(alphasAt(ctx, xGlobal, &alpha));  // bandTop_ too
   // Paper Sec. 4.2: a step must not *cause* alpha to become less than the threshold. Cells inside their singular
   // band already (an inside-out start has alpha = 0 everywhere; the mollifier's flat region alpha < eps) are left to
   // the energy and its line search, and a guarded cell starts at least 2 alpha_min above zero: guarding cells that
