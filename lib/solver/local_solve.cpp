@@ -53,6 +53,7 @@ struct LocalTrial {
   NewtonContext &ctx;
   const AlphaSafeguard &safeguard;
   std::vector<double> bandTop;  // each cell's singular band's top (Discretization::mollifierBandTop)
+  double exactBelow = 0.0;      // the guard values' exactness bound for those bands (AlphaSafeguard::exactBelow)
 
   // The guard values at xg and, unless the safeguard rejects them against `ref` on some rank (*bad; collective; no
   // check without `ref`), the focused potential *e: a rejected trial needs no energy evaluation.
@@ -63,7 +64,7 @@ struct LocalTrial {
     PetscFunctionBeginUser;
     PetscCall(xl.fromGlobal(xg, ctx.disc));
     PetscCall(ctx.beginAssembly());
-    PetscCall(ctx.disc->cellGuard(xl.get(), safeguard.exactBelow(bandTop), guard));
+    PetscCall(ctx.disc->cellGuard(xl.get(), exactBelow, guard));
     if (ref) {
       any = safeguard.rejects(*ref, *guard, bandTop) ? 1 : 0;
       PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPI_INT, MPI_MAX, PetscObjectComm((PetscObject)xg)));
@@ -196,6 +197,7 @@ PetscErrorCode NewtonSolver::localSolve(Vec x, Vec F, PetscReal *fnorm) {
   if (filterBefore == kernels::EigenFilter::None) disc->setEigenFilter(kernels::EigenFilter::Clamp);
   LocalTrial lt{ctx_, *safeguard_, {}};
   disc->mollifierBandTop(&lt.bandTop);
+  lt.exactBelow = safeguard_->exactBelow(lt.bandTop);
   std::vector<double> ref, alpha;
   PetscReal energy;
   PetscCall(lt.evaluate(x, nullptr, &ref, &energy, nullptr));

@@ -79,23 +79,14 @@ class ElasticCells final : public Term {
     for (int q = 0; q < NQ; ++q) e += cells_[c].weight[q] * psi(q);
     return e / cells_[c].measure;
   }
-  // The smallest alpha over the cell's points (the safeguard's and the barrier fallback's per-cell measure); NaN if
-  // any point's is (a non-finite state: the safeguard's test).
-  double alpha(size_t c, const PetscScalar *x) const {
-    if constexpr (NQ == 1) return energies::elementAlpha<R, C>(deformationGradient(c, 0, x));
-    double a = std::numeric_limits<double>::infinity();
-    for (int q = 0; q < NQ; ++q) {
-      const double aq = energies::elementAlpha<R, C>(deformationGradient(c, q, x));
-      if (std::isnan(aq)) return aq;
-      a = std::min(a, aq);
-    }
-    return a;
-  }
+  // The smallest alpha over the cell's points (the barrier fallback's per-cell measure and the output's); NaN if any
+  // point's is (a non-finite state: the safeguard's test). The guard below, exact everywhere.
+  double alpha(size_t c, const PetscScalar *x) const { return guard(c, x, std::numeric_limits<double>::infinity()); }
   // The safeguard's guard value: the cell's alpha where it is below `exactBelow`, elsewhere some value in [exactBelow,
   // alpha], so a test of it against any threshold up to exactBelow reads as the same test of alpha. A 3x3 point
   // whose alphaLowerBound (64 J, kernels/root_function.hpp) clears exactBelow needs no root: cells near their rest
-  // shape, most of any scene, cost a determinant instead of the root's Newton iteration. NaN as alpha(): a non-finite
-  // bound takes the root.
+  // shape, most of any scene, cost a determinant instead of the root's Newton iteration. NaN if any point's alpha is;
+  // a non-finite bound takes the root.
   double guard(size_t c, const PetscScalar *x, double exactBelow) const {
     double g = std::numeric_limits<double>::infinity();
     for (int q = 0; q < NQ; ++q) {
