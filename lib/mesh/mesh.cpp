@@ -325,7 +325,7 @@ PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh, const std::string &file, cons
     PetscCall(PetscInfo(nullptr, "aries: %s: faces and edges made by every rank after distribution\n",
                         mesh->filename.c_str()));
     DM interpolated = nullptr;
-    PetscCall(DMPlexInterpolate(loaded, &interpolated));
+    PetscCall(loading::interpolateMesh(loaded, &interpolated));
     PetscCall(DMDestroy(&loaded));
     loaded = interpolated;
   }

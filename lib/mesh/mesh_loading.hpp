@@ -5,6 +5,8 @@
 #include "mesh/gmsh_check.hpp"
 #include "mesh/mesh.hpp"
 
+#include <metis.h>
+
 #include <map>
 #include <string>
 #include <vector>
@@ -62,6 +64,15 @@ PetscErrorCode closureVertices(DM dm, PetscInt p, PetscInt vStart, PetscInt vEnd
 // kPointLabelCols); ok turns false for a row that names no local cell or no such point.
 PetscErrorCode applyLabelRows(DM dm, DMLabel label, const std::vector<long long> &rows, int cols, PetscInt firstCell,
                               const PetscInt *vertexNatural, bool *ok);
+
+// DMPlexInterpolate's result (faces and edges, point SF, coordinates, labels), made in one pass for a 3D mesh of
+// tetrahedra (mesh/mesh_interpolate.cpp); any other mesh is handed to DMPlexInterpolate. Collective.
+PetscErrorCode interpolateMesh(DM dm, DM *interpolated);
+
+// The dual graph of the cells of a mesh held as cells and vertices (rank 0 may hold all of it, the others none), in
+// METIS's index type: cells are neighbours when they share a face's number of corners (METIS_MeshToDual's graph), each
+// cell's neighbours in increasing order (mesh/mesh_partition.cpp).
+PetscErrorCode cellDualGraph(DM dm, PetscInt *numCells, std::vector<idx_t> *offsets, std::vector<idx_t> *adjacency);
 
 // Partitions for DMPlexDistribute through PETSc's shell partitioner: METIS k-way of the dual graph (the mesh must be on
 // rank 0) and recursive coordinate bisection of the cell centroids (any distribution, deterministic).

@@ -1,0 +1,77 @@
+// Sorted tuples of vertex numbers to consecutive numbers in order of first sight: the faces and edges of a mesh made
+// from its cells (mesh/mesh_interpolate.cpp) and the cells' face neighbours (mesh/mesh_partition.cpp). Internal to
+// lib/mesh.
+#pragma once
+
+#include <petscsys.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace aries::fem::loading {
+
+// Sorted N-tuples of vertex points to their number in order of insertion; linear probing in a power-of-two table at
+// most half full.
+template <int N>
+class TupleNumbers {
+ public:
+  using Key = std::array<PetscInt, N>;
+  explicit TupleNumbers(std::size_t expected) {
+    std::size_t capacity = 16;
+    while (capacity < 2 * expected) capacity *= 2;
+    slots_.assign(capacity, -1);
+    mask_ = capacity - 1;
+    keys_.reserve(expected);
+  }
+  // The number of `key` (sorted), a new one (the count so far) if it was not there; *inserted says which.
+  PetscInt number(const Key &key, bool *inserted) {
+    std::size_t h = hash(key) & mask_;
+    for (;; h = (h + 1) & mask_) {
+      const PetscInt id = slots_[h];
+      if (id < 0) break;
+      if (keys_[static_cast<std::size_t>(id)] == key) {
+        *inserted = false;
+        return id;
+      }
+    }
+    if (2 * (keys_.size() + 1) > slots_.size()) {
+      grow();
+      return number(key, inserted);
+    }
+    const PetscInt id = static_cast<PetscInt>(keys_.size());
+    slots_[h] = id;
+    keys_.push_back(key);
+    *inserted = true;
+    return id;
+  }
+  std::size_t size() const { return keys_.size(); }
+
+ private:
+  static std::size_t hash(const Key &key) {
+    std::uint64_t h = 0x9E3779B97F4A7C15ull;
+    for (PetscInt k : key) h = (h ^ static_cast<std::uint64_t>(k)) * 0xBF58476D1CE4E5B9ull;
+    return static_cast<std::size_t>(h ^ (h >> 31));
+  }
+  void grow() {
+    slots_.assign(2 * slots_.size(), -1);
+    mask_ = slots_.size() - 1;
+    for (std::size_t id = 0; id < keys_.size(); ++id) {
+      std::size_t h = hash(keys_[id]) & mask_;
+      while (slots_[h] >= 0) h = (h + 1) & mask_;
+      slots_[h] = static_cast<PetscInt>(id);
+    }
+  }
+  std::vector<PetscInt> slots_;
+  std::vector<Key> keys_;
+  std::size_t mask_ = 0;
+};
+
+template <std::size_t N>
+std::array<PetscInt, N> sortedTuple(std::array<PetscInt, N> t) {
+  std::sort(t.begin(), t.end());
+  return t;
+}
+
+}  // namespace aries::fem::loading
