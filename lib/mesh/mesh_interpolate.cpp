@@ -196,21 +196,18 @@ PetscErrorCode interpolateMesh(DM dm, DM *interpolated) {
   PetscInt roots;
   PetscCall(DMGetPointSF(dm, &pointSF));
   PetscCall(PetscSFGetGraph(pointSF, &roots, nullptr, nullptr, nullptr));
-  PetscObject keep = nullptr;  // the point SF with the shared faces (PETSc's first pass), for the edges' pass
+  PetscSF facesSF = nullptr;  // the point SF with the shared faces (PETSc's first pass), for the edges' pass
   if (roots >= 0) {
     DM withFaces;
-    PetscSF facesSF;
     PetscCall(buildDM(dm, facets, cEnd, vEnd - cEnd, false, &withFaces));
     PetscCall(DMPlexInterpolatePointSF(withFaces, pointSF));
     PetscCall(DMGetPointSF(withFaces, &facesSF));
     PetscCall(PetscObjectReference((PetscObject)facesSF));
-    keep = (PetscObject)facesSF;
     PetscCall(DMDestroy(&withFaces));
   }
   DM idm;
   PetscCall(buildDM(dm, facets, cEnd, vEnd - cEnd, true, &idm));
-  if (keep) {
-    PetscSF facesSF = (PetscSF)keep;
+  if (facesSF) {
     PetscCall(DMPlexInterpolatePointSF(idm, facesSF));
     PetscCall(PetscSFDestroy(&facesSF));
   }

@@ -1,5 +1,6 @@
 // Two passes of mesh loading made in one against the library calls they replace (ctest mesh.loading.*): the cells'
-// dual graph (mesh/mesh_partition.cpp: cellDualGraph) against METIS_MeshToDual's on the serial mesh, and
+// dual graph (mesh/mesh_partition.cpp: cellDualGraph) against METIS_MeshToDual's on the serial mesh (also where a face
+// has three cells or two cells the same corners), and
 // interpolateMesh (mesh/mesh_interpolate.cpp) against PETSc's DMPlexInterpolate: the same distributed mesh of cells and
 // vertices interpolated both ways must give the same DM point for point: chart, depth strata, cones, cone
 // orientations, supports, cell types, point SF (leaves and their roots), coordinates and labels. Run on 1, 2 and 3
@@ -53,6 +54,26 @@ PetscErrorCode checkDualGraph(DM dm, PetscInt corners, const std::string &what) 
         what + ": dual graph differs from METIS_MeshToDual's");
   METIS_Free(xadj);
   METIS_Free(adjncy);
+  PetscFunctionReturn(0);
+}
+
+// Meshes METIS's graph must be kept for (cellDualGraph falls back to METIS_MeshToDual): two cells on the same four
+// corners, and three cells on one face. Cells on rank 0 only.
+PetscErrorCode checkIrregularDualGraphs() {
+  PetscMPIInt rank;
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &rank));
+  const PetscReal coords[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 1, 1, 1, -1, -1, -1};
+  const std::vector<std::vector<PetscInt>> meshes = {{0, 1, 2, 3, 1, 0, 2, 3, 1, 2, 3, 4},
+                                                     {0, 1, 2, 3, 1, 2, 3, 4, 3, 2, 1, 5}};
+  for (std::size_t m = 0; m < meshes.size(); ++m) {
+    DM dm;
+    const PetscInt numCells = rank == 0 ? static_cast<PetscInt>(meshes[m].size() / 4) : 0;
+    PetscCall(DMPlexCreateFromCellListPetsc(PETSC_COMM_WORLD, 3, numCells, rank == 0 ? 6 : 0, 4, PETSC_FALSE,
+                                            meshes[m].data(), 3, coords, &dm));
+    PetscCall(checkDualGraph(dm, 4, m == 0 ? "two cells on the same corners" : "three cells on a face"));
+    PetscCall(DMDestroy(&dm));
+  }
   PetscFunctionReturn(0);
 }
 
@@ -253,6 +274,7 @@ int main(int argc, char **argv) {
   for (unsigned seed : {1u, 2u, 3u}) PetscCall(run(true, 4, seed));
   PetscCall(run(true, 1, 4));
   PetscCall(run(false, 3, 1));
+  PetscCall(checkIrregularDualGraphs());
   char file[PETSC_MAX_PATH_LEN];
   PetscBool haveFile = PETSC_FALSE;
   PetscCall(PetscOptionsGetString(nullptr, nullptr, "-mesh_file", file, sizeof(file), &haveFile));
