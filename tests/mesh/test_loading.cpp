@@ -1,12 +1,11 @@
-// Two passes of mesh loading made in one against the library calls they replace (ctest mesh.loading.*): the cells'
+// Two passes of mesh loading made in one, against the library calls they replace (ctest mesh.loading.*): the cells'
 // dual graph (mesh/mesh_partition.cpp: cellDualGraph) against METIS_MeshToDual's on the serial mesh (also where a face
-// has three cells or two cells the same corners), and
-// interpolateMesh (mesh/mesh_interpolate.cpp) against PETSc's DMPlexInterpolate: the same distributed mesh of cells and
-// vertices interpolated both ways must give the same DM point for point: chart, depth strata, cones, cone
-// orientations, supports, cell types, point SF (leaves and their roots), coordinates and labels. Run on 1, 2 and 3
-// ranks, on tetrahedral boxes (cells and their vertices listed in random orders, so faces
-// are met in every orientation) and, for the fallback, a hexahedral box; `-mesh_file FILE` adds a mesh file (read as
-// cells and vertices), e.g. meshes/cache/bunny_paper.msh. Prints "FAIL: ..." and exits 1 on a failure.
+// has three cells or two cells have the same corners), and interpolateMesh (mesh/mesh_interpolate.cpp) against PETSc's
+// DMPlexInterpolate: the same distributed mesh of cells and vertices interpolated both ways must give the same DM point
+// for point: chart, depth strata, cones, cone orientations, supports, cell types, point SF (leaves and their roots),
+// coordinates and labels. Run on 1, 2 and 3 ranks, on tetrahedral boxes (cells and their vertices listed in random
+// orders, so faces are met in every orientation) and, for the fallback, a hexahedral box; `-mesh_file FILE` adds a mesh
+// file (read as cells and vertices), e.g. meshes/cache/bunny_paper.msh. Prints "FAIL: ..." and exits 1 on a failure.
 #include "mesh/mesh_loading.hpp"
 
 #include <petscdmplex.h>
