@@ -22,20 +22,18 @@ PetscErrorCode DiscretizationT<R, C, NV>::setupRestCells(const Mesh &mesh,
   std::vector<Cell> &cells = cells_.cells();
   cells.resize(nc);
   std::vector<double> signedMeasure(nc);
+  std::vector<PetscInt> corners;  // a cell's vertices
   for (PetscInt k = 0; k < nc; ++k) {
     Cell &cell = cells[k];
     PetscInt point = mesh.cStart + k;  // the DM cell whose labels give the region
     if (mesh.quadratic) {  // the element's nodes, in its own order (mesh/mesh_quadratic.cpp)
       std::copy(mesh.elementNodes[k].begin(), mesh.elementNodes[k].end(), cell.vertex.begin());
       point = mesh.elementCell[k];
-    } else {
-      PetscInt ncl, *closure = nullptr, n = 0;
-      PetscCall(DMPlexGetTransitiveClosure(mesh.dm, point, PETSC_TRUE, &ncl, &closure));
-      for (PetscInt i = 0; i < ncl && n < NV; ++i) {  // closure order (kernels/elements/hex8.hpp for hexahedra)
-        const PetscInt p = closure[2 * i];
-        if (p >= mesh.vStart && p < mesh.vEnd) cell.vertex[n++] = p - mesh.vStart;
-      }
-      PetscCall(DMPlexRestoreTransitiveClosure(mesh.dm, point, PETSC_TRUE, &ncl, &closure));
+    } else {  // closure order (kernels/elements/hex8.hpp for hexahedra; tetrahedra: Mesh::cellCorners where made)
+      PetscCall(closureVertices(mesh, point, &corners));
+      PetscCheck(corners.size() >= static_cast<std::size_t>(NV), PETSC_COMM_SELF, PETSC_ERR_PLIB,
+                 "cell %" PetscInt_FMT " has %zu vertices, expected %d", point, corners.size(), NV);
+      for (int v = 0; v < NV; ++v) cell.vertex[v] = corners[v];
     }
     kernels::Mat<NV, 3> X;
     for (int v = 0; v < NV; ++v) X.row(v) = verts_[cell.vertex[v]].rest.transpose();

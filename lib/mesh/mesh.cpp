@@ -325,7 +325,7 @@ PetscErrorCode loadMesh(MPI_Comm comm, Mesh *mesh, const std::string &file, cons
     PetscCall(PetscInfo(nullptr, "aries: %s: faces and edges made by every rank after distribution\n",
                         mesh->filename.c_str()));
     DM interpolated = nullptr;
-    PetscCall(loading::interpolateMesh(loaded, &interpolated));
+    PetscCall(loading::interpolateMesh(loaded, &interpolated, &mesh->cellCorners));
     PetscCall(DMDestroy(&loaded));
     loaded = interpolated;
   }
@@ -459,17 +459,6 @@ PetscErrorCode ownedGroupFacets(const Mesh &mesh, const std::vector<char> &copy,
   SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "option %s: %s in mesh '%s' (%s; physical groups present: %s)",
           option.c_str(), found ? "the group has no boundary facets" : "no such physical group", mesh.filename.c_str(),
           purpose, known.c_str());
-}
-
-PetscErrorCode closureVertices(const Mesh &mesh, PetscInt point, std::vector<PetscInt> *vertices) {
-  PetscInt nc, *closure = nullptr;
-  PetscFunctionBeginUser;
-  vertices->clear();
-  PetscCall(DMPlexGetTransitiveClosure(mesh.dm, point, PETSC_TRUE, &nc, &closure));
-  for (PetscInt k = 0; k < nc; ++k)
-    if (closure[2 * k] >= mesh.vStart && closure[2 * k] < mesh.vEnd) vertices->push_back(closure[2 * k] - mesh.vStart);
-  PetscCall(DMPlexRestoreTransitiveClosure(mesh.dm, point, PETSC_TRUE, &nc, &closure));
-  PetscFunctionReturn(0);
 }
 
 PetscErrorCode regionLabel(const Mesh &mesh, const std::string &idOrName, DMLabel *label, PetscInt *value) {

@@ -43,6 +43,9 @@ struct Mesh {
   std::vector<PetscInt> naturalCell;
   std::vector<char> cellOwned;          // 0 for overlap cells (surface meshes carry one layer)
   std::vector<PetscInt> naturalVertex;  // per local vertex (v - vStart)
+  // Tetrahedra whose faces and edges this rank made (mesh/mesh_interpolate.cpp): each cell's 4 corners as local vertices
+  // (v - vStart), in its closure's order (the order they were read in); empty for any other mesh (read its closures).
+  std::vector<PetscInt> cellCorners;
   PetscInt numCellsGlobal = 0, numVerticesGlobal = 0;  // elements and nodes for a quadratic mesh
   PetscInt numCells() const { return static_cast<PetscInt>(naturalCell.size()); }  // local cells (elements)
   struct PhysicalGroup {
@@ -91,8 +94,8 @@ PetscErrorCode physicalGroupFacets(const Mesh &mesh, const std::string &idOrName
 // present, `purpose` saying what the option needs. Collective.
 PetscErrorCode ownedGroupFacets(const Mesh &mesh, const std::vector<char> &copy, const std::string &idOrName,
                                 const std::string &option, const char *purpose, std::vector<PetscInt> *owned);
-// The vertices (local indices v - vStart) in the closure of a DM point (a cell, a facet), in closure order. Not
-// collective.
+// The vertices (local indices v - vStart) in the closure of a DM point (a cell, a facet), in closure order (a
+// tetrahedron's from cellCorners where they were made: mesh/mesh_boundary.cpp). Not collective.
 PetscErrorCode closureVertices(const Mesh &mesh, PetscInt point, std::vector<PetscInt> *vertices);
 
 // The body's boundary facets on this rank: points of height 1 (faces of a solid, edges of a sheet or a planar mesh)

@@ -1,4 +1,5 @@
-// The body's boundary: the facets one cell of the whole mesh holds, and their vertices (mesh/mesh.hpp).
+// The body's boundary: the facets one cell of the whole mesh holds, and their vertices; and the vertices of any point's
+// closure (mesh/mesh.hpp).
 #include "mesh/mesh.hpp"
 
 #include "core/parallel.hpp"
@@ -52,6 +53,22 @@ PetscErrorCode boundaryVertexFlags(const Mesh &mesh, std::vector<char> *onBounda
   PetscCall(sumOverSharedVertices(mesh, 1, &flag));  // a vertex on a boundary facet another rank holds
   onBoundary->assign(flag.size(), 0);
   for (size_t v = 0; v < flag.size(); ++v) (*onBoundary)[v] = flag[v] > 0.0;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode closureVertices(const Mesh &mesh, PetscInt point, std::vector<PetscInt> *vertices) {
+  PetscInt nc, *closure = nullptr;
+  PetscFunctionBeginUser;
+  vertices->clear();
+  if (!mesh.cellCorners.empty() && point >= mesh.cStart && point < mesh.cEnd) {  // a tetrahedron: its read corners
+    const auto first = mesh.cellCorners.begin() + 4 * (point - mesh.cStart);
+    vertices->assign(first, first + 4);
+    PetscFunctionReturn(0);
+  }
+  PetscCall(DMPlexGetTransitiveClosure(mesh.dm, point, PETSC_TRUE, &nc, &closure));
+  for (PetscInt k = 0; k < nc; ++k)
+    if (closure[2 * k] >= mesh.vStart && closure[2 * k] < mesh.vEnd) vertices->push_back(closure[2 * k] - mesh.vStart);
+  PetscCall(DMPlexRestoreTransitiveClosure(mesh.dm, point, PETSC_TRUE, &nc, &closure));
   PetscFunctionReturn(0);
 }
 

@@ -179,9 +179,10 @@ PetscErrorCode fastPathApplies(DM dm, bool *applies) {
 
 }  // namespace
 
-PetscErrorCode interpolateMesh(DM dm, DM *interpolated) {
+PetscErrorCode interpolateMesh(DM dm, DM *interpolated, std::vector<PetscInt> *corners) {
   bool fast = false;
   PetscFunctionBeginUser;
+  if (corners) corners->clear();
   PetscCall(fastPathApplies(dm, &fast));
   if (!fast) {
     PetscCall(DMPlexInterpolate(dm, interpolated));
@@ -192,6 +193,15 @@ PetscErrorCode interpolateMesh(DM dm, DM *interpolated) {
   PetscCall(DMPlexGetDepthStratum(dm, 0, nullptr, &vEnd));
   TetFacets facets;
   PetscCall(numberFacets(dm, 0, cEnd, &facets));
+  if (corners) {  // a tetrahedron's closure lists its corners in its cone's order (PETSc's faces keep the first
+                  // face's vertices and orientations relative to it; tests/mesh/test_loading.cpp checks it)
+    corners->resize(static_cast<std::size_t>(4 * cEnd));
+    for (PetscInt c = 0; c < cEnd; ++c) {
+      const PetscInt *cone;
+      PetscCall(DMPlexGetCone(dm, c, &cone));
+      for (int k = 0; k < 4; ++k) (*corners)[4 * c + k] = cone[k] - cEnd;  // vertices start at cEnd
+    }
+  }
   PetscSF pointSF;
   PetscInt roots;
   PetscCall(DMGetPointSF(dm, &pointSF));

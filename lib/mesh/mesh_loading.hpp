@@ -66,8 +66,9 @@ PetscErrorCode applyLabelRows(DM dm, DMLabel label, const std::vector<long long>
                               const PetscInt *vertexNatural, bool *ok);
 
 // DMPlexInterpolate's result (faces and edges, point SF, coordinates, labels), made in one pass for a 3D mesh of
-// tetrahedra (mesh/mesh_interpolate.cpp); any other mesh is handed to DMPlexInterpolate. Collective.
-PetscErrorCode interpolateMesh(DM dm, DM *interpolated);
+// tetrahedra (mesh/mesh_interpolate.cpp); any other mesh is handed to DMPlexInterpolate. corners (optional): for the
+// tetrahedra, each cell's 4 corners as local vertices (Mesh::cellCorners), else emptied. Collective.
+PetscErrorCode interpolateMesh(DM dm, DM *interpolated, std::vector<PetscInt> *corners = nullptr);
 
 // The dual graph of the cells of a mesh held as cells and vertices (rank 0 may hold all of it, the others none), in
 // METIS's index type: cells are neighbours when they share a face's number of corners (METIS_MeshToDual's graph), each

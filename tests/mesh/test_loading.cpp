@@ -3,9 +3,10 @@
 // has three cells or two cells have the same corners), and interpolateMesh (mesh/mesh_interpolate.cpp) against PETSc's
 // DMPlexInterpolate: the same distributed mesh of cells and vertices interpolated both ways must give the same DM point
 // for point: chart, depth strata, cones, cone orientations, supports, cell types, point SF (leaves and their roots),
-// coordinates and labels. Run on 1, 2 and 3 ranks, on tetrahedral boxes (cells and their vertices listed in random
-// orders, so faces are met in every orientation) and, for the fallback, a hexahedral box; `-mesh_file FILE` adds a mesh
-// file (read as cells and vertices), e.g. meshes/cache/bunny_paper.msh. Prints "FAIL: ..." and exits 1 on a failure.
+// coordinates and labels; and the corners it hands back must be the cells' closure vertices in closure order. Run on 1,
+// 2 and 3 ranks, on tetrahedral boxes (cells and their vertices listed in random orders, so faces are met in every
+// orientation) and, for the fallback, a hexahedral box; `-mesh_file FILE` adds a mesh file (read as cells and
+// vertices), e.g. meshes/cache/bunny_paper.msh. Prints "FAIL: ..." and exits 1 on a failure.
 #include "mesh/mesh_loading.hpp"
 
 #include <petscdmplex.h>
@@ -243,6 +244,28 @@ PetscErrorCode distributedFile(const char *file, DM *out) {
   PetscFunctionReturn(0);
 }
 
+// The corners interpolateMesh hands back (tetrahedra only) are every cell's closure vertices, in closure order.
+PetscErrorCode checkCorners(DM dm, const std::vector<PetscInt> &corners, bool simplex, const std::string &what) {
+  PetscInt cStart, cEnd, vStart, vEnd;
+  PetscFunctionBeginUser;
+  PetscCall(DMPlexGetHeightStratum(dm, 0, &cStart, &cEnd));
+  PetscCall(DMPlexGetDepthStratum(dm, 0, &vStart, &vEnd));
+  check(corners.size() == (simplex ? static_cast<std::size_t>(4 * (cEnd - cStart)) : 0u), what + ": corners' count");
+  if (!simplex || corners.size() != static_cast<std::size_t>(4 * (cEnd - cStart))) PetscFunctionReturn(0);
+  int differ = 0;
+  for (PetscInt c = cStart; c < cEnd; ++c) {
+    PetscInt n = 0, size, *closure = nullptr;
+    std::vector<PetscInt> vertices;
+    PetscCall(DMPlexGetTransitiveClosure(dm, c, PETSC_TRUE, &size, &closure));
+    for (PetscInt i = 0; i < size; ++i)
+      if (closure[2 * i] >= vStart && closure[2 * i] < vEnd) vertices.push_back(closure[2 * i] - vStart), ++n;
+    PetscCall(DMPlexRestoreTransitiveClosure(dm, c, PETSC_TRUE, &size, &closure));
+    differ += n != 4 || !std::equal(vertices.begin(), vertices.end(), corners.begin() + 4 * (c - cStart));
+  }
+  check(differ == 0, what + ": " + std::to_string(differ) + " cells' corners not in closure order");
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode run(bool simplex, PetscInt n, unsigned seed, const char *file = nullptr) {
   DM dm, ours, petsc;
   PetscFunctionBeginUser;
@@ -251,9 +274,11 @@ PetscErrorCode run(bool simplex, PetscInt n, unsigned seed, const char *file = n
                                       " seed=" + std::to_string(seed);
   if (file) PetscCall(distributedFile(file, &dm));
   else PetscCall(distributedBox(simplex, n, seed, &dm));
-  PetscCall(aries::fem::loading::interpolateMesh(dm, &ours));
+  std::vector<PetscInt> corners;
+  PetscCall(aries::fem::loading::interpolateMesh(dm, &ours, &corners));
   PetscCall(DMPlexInterpolate(dm, &petsc));
   PetscCall(compare(ours, petsc, what));
+  PetscCall(checkCorners(ours, corners, simplex, what));
   // the interpolated mesh is valid as PETSc checks it (cones, supports, faces of cells, point SF, interfaces)
   PetscCall(DMPlexCheckSymmetry(ours));
   PetscCall(DMPlexCheckSkeleton(ours, 0));
