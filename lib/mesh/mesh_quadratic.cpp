@@ -266,6 +266,7 @@ PetscErrorCode refineToQuadratic(Mesh *mesh, const std::vector<PetscInt> &pointN
   PetscCall(DMPlexTransformDestroy(&tr));
   PetscCall(DMDestroy(&mesh->dm));
   mesh->dm = fine;
+  mesh->cellCorners.clear();  // the fine mesh's cells are not the ones read (closureVertices reads their closures)
   PetscCall(PetscObjectSetName((PetscObject)mesh->dm, "aries_mesh"));
   mesh->cStart = cStart, mesh->cEnd = cEnd, mesh->vStart = vStart, mesh->vEnd = vEnd;
   mesh->naturalVertex = std::move(naturalVertex);
