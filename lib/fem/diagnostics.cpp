@@ -93,15 +93,21 @@ PetscErrorCode DiscretizationT<R, C, NV>::cellAlpha(Vec xLocal, std::vector<doub
   const PetscScalar *x;
   PetscFunctionBeginUser;
   PetscCall(VecGetArrayRead(xLocal, &x));
-  if (cells_.focused()) {
-    alpha->assign(cells_.size(), std::numeric_limits<double>::infinity());
-    for (size_t c : cells_.focus()) (*alpha)[c] = cells_.alpha(c, x);
-  } else {
-    alpha->resize(cells_.size());
-    for (size_t c = 0; c < cells_.size(); ++c) (*alpha)[c] = cells_.alpha(c, x);
-  }
+  elasticGuards(x, std::numeric_limits<double>::infinity(), alpha);  // exact everywhere: alpha
   PetscCall(VecRestoreArrayRead(xLocal, &x));
   PetscFunctionReturn(0);
+}
+
+// Each cell's guard value (ElasticCells::guard), the focus's cells only while a local solve focuses (the others +inf).
+template <int R, int C, int NV>
+void DiscretizationT<R, C, NV>::elasticGuards(const PetscScalar *x, double exactBelow, std::vector<double> *guard) const {
+  if (cells_.focused()) {
+    guard->assign(cells_.size(), std::numeric_limits<double>::infinity());
+    for (size_t c : cells_.focus()) (*guard)[c] = cells_.guard(c, x, exactBelow);
+  } else {
+    guard->resize(cells_.size());
+    for (size_t c = 0; c < cells_.size(); ++c) (*guard)[c] = cells_.guard(c, x, exactBelow);
+  }
 }
 
 template <int R, int C, int NV>
@@ -139,13 +145,7 @@ PetscErrorCode DiscretizationT<R, C, NV>::cellGuard(Vec xLocal, double exactBelo
   const PetscScalar *x;
   PetscFunctionBeginUser;
   PetscCall(VecGetArrayRead(xLocal, &x));
-  if (cells_.focused()) {
-    guard->assign(cells_.size(), std::numeric_limits<double>::infinity());
-    for (size_t c : cells_.focus()) (*guard)[c] = cells_.guard(c, x, exactBelow);
-  } else {
-    guard->resize(cells_.size());
-    for (size_t c = 0; c < cells_.size(); ++c) (*guard)[c] = cells_.guard(c, x, exactBelow);
-  }
+  elasticGuards(x, exactBelow, guard);
   if constexpr (R == 2 && C == 2) {
     if (keepOrientation_)
       for (size_t c = 0; c < cells_.size(); ++c)

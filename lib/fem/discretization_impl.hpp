@@ -104,6 +104,8 @@ class DiscretizationT final : public Discretization, public DiagnosticsView, pub
   PetscErrorCode addBendingHinges(Mesh &mesh, double stiffness);                                 // discretization
   PetscErrorCode addInertiaGravity(const Mesh &mesh);                                            // discretization
 
+  // Each local cell's guard value exact below exactBelow (the safeguard's guard, alpha at +inf; diagnostics.cpp).
+  void elasticGuards(const PetscScalar *x, double exactBelow, std::vector<double> *guard) const;
   // `comps` values per owned vertex, value(local vertex, out), in the order of ownedVertexIds.
   void ownedVertexRows(int comps, const std::function<void(size_t, double *)> &value, std::vector<double> *values) const;
   MPI_Comm comm() const { return PetscObjectComm((PetscObject)mesh_->dm); }
