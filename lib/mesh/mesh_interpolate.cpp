@@ -26,10 +26,6 @@ namespace aries::fem::loading {
 
 namespace {
 
-// A tetrahedron's faces from its vertices, as DMPlexGetRawFaces_Internal lists them (the first face's vertices follow
-// the right-hand rule with its normal away from the fourth vertex).
-constexpr int kTetFaces[4][3] = {{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {2, 1, 3}};
-
 // The connectivity of the faces and edges: every cell's faces (point offsets from the first face) with their
 // orientations, every face's vertices (from its first cell) and edges with their orientations, every edge's vertices
 // (from its first face).
@@ -51,7 +47,7 @@ PetscErrorCode numberFacets(DM dm, PetscInt cStart, PetscInt cEnd, TetFacets *t)
     const PetscInt *cone;
     PetscCall(DMPlexGetCone(dm, c, &cone));
     for (int f = 0; f < 4; ++f) {
-      const std::array<PetscInt, 3> raw = {cone[kTetFaces[f][0]], cone[kTetFaces[f][1]], cone[kTetFaces[f][2]]};
+      const std::array<PetscInt, 3> raw = {cone[kTetrahedronFaces[f][0]], cone[kTetrahedronFaces[f][1]], cone[kTetrahedronFaces[f][2]]};
       bool inserted;
       const PetscInt id = faces.number(sortedTuple(raw), &inserted);
       PetscInt ornt = 0;

@@ -36,12 +36,11 @@ PetscErrorCode setShellPartition(PetscPartitioner part, PetscMPIInt size, const 
 bool tetrahedronFaceNeighbours(const std::vector<idx_t> &corners, std::vector<idx_t> *offsets,
                                std::vector<idx_t> *adjacency) {
   const std::size_t ne = corners.size() / 4;
-  constexpr int kFaces[4][3] = {{0, 1, 2}, {0, 1, 3}, {0, 2, 3}, {1, 2, 3}};
   TupleNumbers<3> faces(2 * ne + 16);
   std::vector<std::array<idx_t, 2>> faceCells;  // per face its cells (-1: none yet)
   faceCells.reserve(2 * ne + 16);
   for (std::size_t c = 0; c < ne; ++c)
-    for (const auto &f : kFaces) {
+    for (const auto &f : kTetrahedronFaces) {
       bool inserted;
       const auto id = faces.number(
           sortedTuple<3>({corners[4 * c + f[0]], corners[4 * c + f[1]], corners[4 * c + f[2]]}), &inserted);
@@ -57,7 +56,10 @@ bool tetrahedronFaceNeighbours(const std::vector<idx_t> &corners, std::vector<id
   std::vector<idx_t> next(offsets->begin(), offsets->end() - 1);
   for (const auto &fc : faceCells)
     if (fc[1] >= 0) (*adjacency)[next[fc[0]]++] = fc[1], (*adjacency)[next[fc[1]]++] = fc[0];
-  for (std::size_t c = 0; c < ne; ++c) {  // two cells on the same corners share more than one face: METIS links them once
+  // each cell's neighbours in increasing order, as PETSc's graph of the mesh with faces lists them: the same graph, so
+  // the same partition whether the faces are made before or after distribution (-mesh_faces); two cells on the same
+  // corners share more than one face, where METIS links them once
+  for (std::size_t c = 0; c < ne; ++c) {
     auto row = adjacency->begin();
     std::sort(row + (*offsets)[c], row + (*offsets)[c + 1]);
     if (std::adjacent_find(row + (*offsets)[c], row + (*offsets)[c + 1]) != row + (*offsets)[c + 1]) return false;
@@ -102,11 +104,9 @@ PetscErrorCode cellDualGraph(DM dm, PetscInt *numCells, std::vector<idx_t> *offs
     adjacency->assign(adjncy, adjncy + xadj[ne]);
     METIS_Free(xadj);
     METIS_Free(adjncy);
+    for (PetscInt c = 0; c < *numCells; ++c)  // in increasing order, as tetrahedronFaceNeighbours lists them
+      std::sort(adjacency->begin() + (*offsets)[c], adjacency->begin() + (*offsets)[c + 1]);
   }
-  // each cell's neighbours in increasing order, as PETSc's graph of the mesh with faces lists them: the same graph,
-  // so the same partition whether the faces are made before or after distribution (-mesh_faces)
-  for (PetscInt c = 0; c < *numCells; ++c)
-    std::sort(adjacency->begin() + (*offsets)[c], adjacency->begin() + (*offsets)[c + 1]);
   PetscFunctionReturn(0);
 }
 

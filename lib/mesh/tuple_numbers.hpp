@@ -1,5 +1,5 @@
-// Sorted tuples of vertex numbers to consecutive numbers in order of first sight: the faces and edges of a mesh made
-// from its cells (mesh/mesh_interpolate.cpp) and the cells' face neighbours (mesh/mesh_partition.cpp). Internal to
+// Sorted tuples of vertex numbers to consecutive numbers in order of first sight, and a tetrahedron's faces: the faces
+// and edges of a mesh made from its cells (mesh/mesh_interpolate.cpp) and the cells' face neighbours (mesh/mesh_partition.cpp). Internal to
 // lib/mesh.
 #pragma once
 
@@ -67,6 +67,10 @@ class TupleNumbers {
   std::vector<Key> keys_;
   std::size_t mask_ = 0;
 };
+
+// A tetrahedron's faces from its vertices, as PETSc's DMPlexGetRawFaces_Internal lists them (the first face's vertices
+// follow the right-hand rule with its normal away from the fourth vertex).
+constexpr int kTetrahedronFaces[4][3] = {{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {2, 1, 3}};
 
 template <std::size_t N>
 std::array<PetscInt, N> sortedTuple(std::array<PetscInt, N> t) {
