@@ -7,14 +7,19 @@
 // consecutive vertices on a chain numbered across the ranks, so every rank's last elements reach into the next rank's
 // vertices (rows through the stash, columns in the off-diagonal part). Also: the positions are found once per matrix
 // and pattern, a matrix with another pattern gets its own, and what the scatter does not support (SBAIJ, a partly held
-// vertex) is declined. Prints "FAIL: ..." and exits 1 on the first failure.
+// vertex) is declined. The matrices are preallocated as aries preallocates the Hessian (HessianPattern, from the same
+// insertions), and that pattern is checked against PETSc's MATPREALLOCATOR's for every case. Prints "FAIL: ..." and
+// exits 1 on the first failure.
+#include "fem/hessian_pattern.hpp"
 #include "fem/terms/element_scatter.hpp"
 
 #include <petscmat.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <cstdlib>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -86,9 +91,10 @@ void elementMatrix(PetscInt id, int round, double *K) {
   }
 }
 
+// A matrix of the chain's sizes, preallocated from every element's insertions: by HessianPattern (aries' way), or by
+// PETSc's MATPREALLOCATOR (withPreallocator, the pattern's reference).
 template <int NV, int R>
-PetscErrorCode createMatrix(const Chain<NV, R> &chain, MatType type, Mat *J) {
-  Mat P;
+PetscErrorCode createMatrix(const Chain<NV, R> &chain, MatType type, Mat *J, bool withPreallocator = false) {
   PetscFunctionBeginUser;
   const bool blocked = std::string(type) != MATAIJ;
   auto make = [&](Mat *A, MatType t) -> PetscErrorCode {
@@ -99,16 +105,77 @@ PetscErrorCode createMatrix(const Chain<NV, R> &chain, MatType type, Mat *J) {
     PetscCall(MatSetType(*A, t));
     PetscFunctionReturn(0);
   };
+  std::array<double, NV * R * NV * R> K{};
+  PetscCall(make(J, type));
+  if (!withPreallocator) {
+    aries::fem::HessianPattern pattern;
+    PetscCall(pattern.create(*J));
+    for (size_t e = 0; e < chain.elements.size(); ++e)
+      PetscCall((aries::fem::setElementMatrix<NV, R>(chain.verts, chain.elements[e], K.data(), blocked,
+                                                     pattern.recorder())));
+    PetscCall(pattern.preallocate(*J));
+    PetscFunctionReturn(0);
+  }
+  Mat P;
   PetscCall(make(&P, MATPREALLOCATOR));
   PetscCall(MatSetUp(P));
-  std::array<double, NV * R * NV * R> K{};
   for (size_t e = 0; e < chain.elements.size(); ++e)
     PetscCall((aries::fem::setElementMatrix<NV, R>(chain.verts, chain.elements[e], K.data(), blocked, P)));
   PetscCall(MatAssemblyBegin(P, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(P, MAT_FINAL_ASSEMBLY));
-  PetscCall(make(J, type));
   PetscCall(MatPreallocatorPreallocate(P, PETSC_TRUE, *J));
   PetscCall(MatDestroy(&P));
+  PetscFunctionReturn(0);
+}
+
+// HessianPattern's pattern against MATPREALLOCATOR's, row by row: the same, except that PETSc 3.18's preallocator
+// keys a skipped column (-1, a held dof) as block -1 / bs, which C rounds to block 0, so with bs > 1 the rows that
+// touch a held vertex get block column 0 as a (zero) entry they do not couple to. The recorder leaves it out.
+// (In aries' Hessian: 0.3% of the entries of the peer box's, 125k tets on 2 ranks; results move at round-off with GAMG.)
+template <int NV, int R>
+PetscErrorCode checkPattern(const Chain<NV, R> &chain, MatType type, const std::string &name) {
+  Mat ours, petsc;
+  PetscInt rowStart, rowEnd, bs;
+  PetscFunctionBeginUser;
+  PetscCall(createMatrix(chain, type, &ours));
+  PetscCall(createMatrix(chain, type, &petsc, true));
+  PetscCall(MatGetBlockSize(ours, &bs));
+  PetscCall(MatGetOwnershipRange(ours, &rowStart, &rowEnd));
+  PetscInt differ = 0, spurious = 0, entries = 0;
+  PetscCall(MatGetRowUpperTriangular(ours));  // SBAIJ: its rows (a no-op for the other types)
+  PetscCall(MatGetRowUpperTriangular(petsc));
+  for (PetscInt r = rowStart; r < rowEnd; ++r) {
+    std::vector<PetscInt> cols[2];
+    Mat both[2] = {ours, petsc};
+    for (int k = 0; k < 2; ++k) {
+      PetscInt n;
+      const PetscInt *c;
+      PetscCall(MatGetRow(both[k], r, &n, &c, nullptr));
+      cols[k].assign(c, c + n);
+      PetscCall(MatRestoreRow(both[k], r, &n, &c, nullptr));
+    }
+    entries += static_cast<PetscInt>(cols[0].size());
+    std::vector<PetscInt> extra;  // in PETSc's, not in ours
+    std::set_difference(cols[1].begin(), cols[1].end(), cols[0].begin(), cols[0].end(), std::back_inserter(extra));
+    const bool subset = std::includes(cols[1].begin(), cols[1].end(), cols[0].begin(), cols[0].end());
+    const bool blockZero = std::all_of(extra.begin(), extra.end(), [&](PetscInt c) { return c < bs; });
+    if (!subset || !blockZero || (bs == 1 && !extra.empty())) ++differ;
+    if (!extra.empty()) ++spurious;
+  }
+  PetscCall(MatRestoreRowUpperTriangular(ours));
+  PetscCall(MatRestoreRowUpperTriangular(petsc));
+  check(differ == 0 && entries > 0, name + ": " + std::to_string(differ) +
+                                        " rows differ from MATPREALLOCATOR's pattern by more than its block column 0");
+  PetscMPIInt size;
+  PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &size));
+  PetscInt all = 0;
+  PetscCallMPI(MPI_Allreduce(&spurious, &all, 1, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD));
+  // seen where bs > 1, but for SBAIJ, which keeps no block below the diagonal (block column 0 is, but in row 0)
+  const bool quirk = bs > 1 && std::string(type) != MATSBAIJ;
+  check(quirk == (all > 0), name + ": MATPREALLOCATOR's block column 0 quirk " +
+                                (quirk ? "not seen (the check above tests nothing)" : "seen where it cannot be"));
+  PetscCall(MatDestroy(&ours));
+  PetscCall(MatDestroy(&petsc));
   PetscFunctionReturn(0);
 }
 
@@ -163,6 +230,7 @@ PetscErrorCode testShape(MatType type) {
   const std::string name = "NV " + std::to_string(NV) + ", R " + std::to_string(R) + ", " + type + ", " +
                            std::to_string(size) + " rank(s)";
   const Chain<NV, R> chain(rank, size, false);
+  PetscCall(checkPattern(chain, type, name));
   PetscCall(createMatrix(chain, type, &reference));
   PetscCall(MatDuplicate(reference, MAT_DO_NOT_COPY_VALUES, &J));
   PetscCall(MatDuplicate(reference, MAT_DO_NOT_COPY_VALUES, &other));
@@ -191,6 +259,7 @@ PetscErrorCode testShape(MatType type) {
   const Chain<NV, R> partial(rank, size, true);
   if (std::string(type) == MATAIJ) {
     aries::fem::ElementScatter<NV, R> fresh;
+    PetscCall(checkPattern(partial, type, name + ", partly held"));
     PetscCall(createMatrix(partial, type, &J));
     PetscCall(assemble(partial, J, true, &fresh, 0, &direct));
     check(!direct, name + ": a partly held vertex was not declined");
@@ -207,6 +276,7 @@ PetscErrorCode testDeclinesSymmetricStorage() {
   PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &rank));
   PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &size));
   const Chain<4, 3> chain(rank, size, false);
+  PetscCall(checkPattern(chain, MATSBAIJ, "SBAIJ"));
   PetscCall(createMatrix(chain, MATSBAIJ, &J));
   PetscCall(MatSetOption(J, MAT_IGNORE_LOWER_TRIANGULAR, PETSC_TRUE));
   aries::fem::ElementScatter<4, 3> scatter;

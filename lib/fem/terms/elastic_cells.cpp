@@ -54,7 +54,7 @@ PetscErrorCode ElasticCells<R, C, NV>::addHessian(const PetscScalar *x, const He
     const Cell &cell = cells_[c];
     if (ierr || productSkips<NV, R>(verts_, cell.vertex, how)) return;
     K.setZero();
-    for (int q = 0; q < NQ; ++q) {  // filtered per point, or summed unfiltered and the element filtered below
+    for (int q = 0; q < (how.patternOnly ? 0 : NQ); ++q) {  // filtered per point, or summed unfiltered and the element filtered below
       const auto d = how.wholeElement ? energies::evaluateEnergy<R, C>(materialOf(c), dataOf(c),
                                                                        deformationGradient(c, q, x),
                                                                        kernels::Order::Hessian)
@@ -62,7 +62,7 @@ PetscErrorCode ElasticCells<R, C, NV>::addHessian(const PetscScalar *x, const He
                                                                                deformationGradient(c, q, x), how.filter);
       kernels::addPointHessian<R, C, NV>((cell.weight[q] * d.hess).eval(), cell.W[q], &K);
     }
-    if (how.wholeElement && how.filter.filter != kernels::EigenFilter::None) {
+    if (how.wholeElement && how.filter.filter != kernels::EigenFilter::None && !how.patternOnly) {
       K = kernels::filterEigenvalues<NDOF>(kernels::Mat<NDOF, NDOF>(K), how.filter.filter);
     }
     ierr = direct ? scatter_.add(J, verts_, c, cell.vertex, K.data())

@@ -27,6 +27,9 @@ struct HessianAssembly {
   // dofs then hold H_ff d_f + H_fd d_d (the lifted Dirichlet increment's coupling when d is zero at the free dofs).
   const PetscScalar *productIn = nullptr;
   PetscScalar *productOut = nullptr;
+  // Pattern mode (Discretization::preallocateHessian): only where entries go counts; a term may add zero matrices
+  // instead of evaluating its Hessian, through the same insertions.
+  bool patternOnly = false;
   bool product() const { return productOut != nullptr; }
 };
 
