@@ -13,7 +13,9 @@
 namespace aries::fem::loading {
 
 // Sorted N-tuples of vertex points to their number in order of insertion; linear probing in a power-of-two table at
-// most half full.
+// most half full. Each slot holds its tuple beside its number, so a probe reads one place in memory: with the tuples
+// in a second array every probe read two, and the lookups (4 per tetrahedron for the faces, 3 per face for the edges,
+// 4 per tetrahedron again for the dual graph on rank 0) were cache misses, about 2.5% of the 1M-tet peer box's samples.
 template <int N>
 class TupleNumbers {
  public:
@@ -21,50 +23,53 @@ class TupleNumbers {
   explicit TupleNumbers(std::size_t expected) {
     std::size_t capacity = 16;
     while (capacity < 2 * expected) capacity *= 2;
-    slots_.assign(capacity, -1);
+    slots_.assign(capacity, Slot{});
     mask_ = capacity - 1;
-    keys_.reserve(expected);
   }
   // The number of `key` (sorted), a new one (the count so far) if it was not there; *inserted says which.
   PetscInt number(const Key &key, bool *inserted) {
     std::size_t h = hash(key) & mask_;
     for (;; h = (h + 1) & mask_) {
-      const PetscInt id = slots_[h];
-      if (id < 0) break;
-      if (keys_[static_cast<std::size_t>(id)] == key) {
+      const Slot &slot = slots_[h];
+      if (slot.id < 0) break;
+      if (slot.key == key) {
         *inserted = false;
-        return id;
+        return slot.id;
       }
     }
-    if (2 * (keys_.size() + 1) > slots_.size()) {
+    if (2 * (count_ + 1) > slots_.size()) {
       grow();
       return number(key, inserted);
     }
-    const PetscInt id = static_cast<PetscInt>(keys_.size());
-    slots_[h] = id;
-    keys_.push_back(key);
+    slots_[h] = Slot{key, static_cast<PetscInt>(count_)};
     *inserted = true;
-    return id;
+    return static_cast<PetscInt>(count_++);
   }
-  std::size_t size() const { return keys_.size(); }
+  std::size_t size() const { return count_; }
 
  private:
+  struct Slot {
+    Key key{};
+    PetscInt id = -1;  // -1: empty
+  };
   static std::size_t hash(const Key &key) {
     std::uint64_t h = 0x9E3779B97F4A7C15ull;
     for (PetscInt k : key) h = (h ^ static_cast<std::uint64_t>(k)) * 0xBF58476D1CE4E5B9ull;
     return static_cast<std::size_t>(h ^ (h >> 31));
   }
   void grow() {
-    slots_.assign(2 * slots_.size(), -1);
+    std::vector<Slot> old(2 * slots_.size());
+    old.swap(slots_);
     mask_ = slots_.size() - 1;
-    for (std::size_t id = 0; id < keys_.size(); ++id) {
-      std::size_t h = hash(keys_[id]) & mask_;
-      while (slots_[h] >= 0) h = (h + 1) & mask_;
-      slots_[h] = static_cast<PetscInt>(id);
+    for (const Slot &slot : old) {
+      if (slot.id < 0) continue;
+      std::size_t h = hash(slot.key) & mask_;
+      while (slots_[h].id >= 0) h = (h + 1) & mask_;
+      slots_[h] = slot;
     }
   }
-  std::vector<PetscInt> slots_;
-  std::vector<Key> keys_;
+  std::vector<Slot> slots_;
+  std::size_t count_ = 0;
   std::size_t mask_ = 0;
 };
 
