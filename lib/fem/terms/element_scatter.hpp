@@ -90,6 +90,23 @@ class ElementScatter {
   };
   PetscErrorCode find(Mat J, const VertexTable &verts, size_t count, const PetscInt *const *vertexLists,
                       const std::vector<char> &ownedCells, bool *ok);
+  // Per local vertex: its (unit) row where owned and free, else -1; its column in part 0 or 1 where free, else -1
+  // (-2: a free vertex the off-diagonal part does not list).
+  struct VertexColumns {
+    std::vector<PetscInt> rowOf, columnOf;
+    std::vector<char> partOf;
+  };
+  static void vertexColumns(const VertexTable &verts, PetscInt unit, PetscInt rowStart, PetscInt colStart,
+                            PetscInt colEnd, const PetscInt *garray, PetscInt garrayLength, VertexColumns *vc);
+  // The (element, corner) places of every row's vertex (firstPlace[v] .. firstPlace[v + 1] in places), so find()
+  // searches each row's column indices while they are in cache and each of its column blocks once, and the elements'
+  // vertices copied side by side for it (read in place, each element was a cache miss). Element by element, every
+  // search was a miss: 1.9% of the 1M-tet peer box's samples, 1.15% this way.
+  struct RowPlaces {
+    std::vector<PetscInt> cellVertex, firstPlace, places;
+  };
+  static void placesByRow(size_t count, const PetscInt *const *vertexLists, const std::vector<char> &ownedCells,
+                          const std::vector<PetscInt> &rowOf, RowPlaces *rp);
 
   PetscInt64 matId_ = -1;
   PetscObjectState pattern_ = -1;
@@ -127,6 +144,53 @@ PetscErrorCode ElementScatter<NV, R>::prepare(Mat J, const VertexTable &verts, s
   }
   *direct = usable_;
   PetscFunctionReturn(0);
+}
+
+template <int NV, int R>
+void ElementScatter<NV, R>::vertexColumns(const VertexTable &verts, PetscInt unit, PetscInt rowStart,
+                                          PetscInt colStart, PetscInt colEnd, const PetscInt *garray,
+                                          PetscInt garrayLength, VertexColumns *vc) {
+  const size_t nv = verts.size();
+  vc->rowOf.assign(nv, -1);
+  vc->columnOf.assign(nv, -1);
+  vc->partOf.assign(nv, 0);
+  for (size_t v = 0; v < nv; ++v) {
+    const VertexInfo &vi = verts[v];
+    if (vi.numFree == 0) continue;
+    if (vi.ownedFree()) vc->rowOf[v] = (vi.global - rowStart) / unit;
+    if (vi.global >= colStart && vi.global < colEnd) {
+      vc->columnOf[v] = (vi.global - colStart) / unit;
+      continue;
+    }
+    vc->partOf[v] = 1;  // the off-diagonal part's compressed column: garray is sorted (the global columns in order)
+    const PetscInt *at = garray ? std::lower_bound(garray, garray + garrayLength, vi.global / unit) : nullptr;
+    vc->columnOf[v] = at && at != garray + garrayLength && *at == vi.global / unit ? at - garray : -2;
+  }
+}
+
+template <int NV, int R>
+void ElementScatter<NV, R>::placesByRow(size_t count, const PetscInt *const *vertexLists,
+                                        const std::vector<char> &ownedCells, const std::vector<PetscInt> &rowOf,
+                                        RowPlaces *rp) {
+  const size_t nv = rowOf.size();
+  rp->cellVertex.assign(count * NV, -1);
+  rp->firstPlace.assign(nv + 1, 0);
+  for (size_t e = 0; e < count; ++e) {
+    if (!ownedCells[e]) continue;
+    for (int a = 0; a < NV; ++a) {
+      rp->cellVertex[e * NV + a] = vertexLists[e][a];
+      if (rowOf[vertexLists[e][a]] >= 0) ++rp->firstPlace[vertexLists[e][a] + 1];
+    }
+  }
+  for (size_t v = 0; v < nv; ++v) rp->firstPlace[v + 1] += rp->firstPlace[v];
+  rp->places.resize(rp->firstPlace[nv]);
+  std::vector<PetscInt> next(rp->firstPlace.begin(), rp->firstPlace.end() - 1);
+  for (size_t e = 0; e < count; ++e)
+    if (ownedCells[e])
+      for (int a = 0; a < NV; ++a) {
+        const PetscInt v = rp->cellVertex[e * NV + a];
+        if (rowOf[v] >= 0) rp->places[next[v]++] = static_cast<PetscInt>(e * NV + a);
+      }
 }
 
 template <int NV, int R>
@@ -182,42 +246,51 @@ PetscErrorCode ElementScatter<NV, R>::find(Mat J, const VertexTable &verts, size
     const PetscInt *at = std::lower_bound(first, last, c);
     return at != last && *at == c ? at - ja[p] : -1;
   };
-  for (size_t e = 0; good && e < count; ++e) {
-    if (!ownedCells[e]) continue;
-    const PetscInt *vertex = vertexLists[e];
-    for (int a = 0; good && a < NV; ++a) {
-      const VertexInfo &vi = verts[vertex[a]];
-      if (!vi.ownedFree()) continue;
-      const PetscInt row = (vi.global - rowStart) / unit;  // local (unit) row of the vertex's first dof
+  VertexColumns vc;
+  RowPlaces rp;
+  if (good) {
+    vertexColumns(verts, unit, rowStart, colStart, colEnd, garray, garrayLength, &vc);
+    placesByRow(count, vertexLists, ownedCells, vc.rowOf, &rp);
+  }
+  const size_t nv = verts.size();
+  struct Found {  // a column block of the current row: its part, column and position
+    int part;
+    PetscInt column, at;
+  };
+  std::vector<Found> found;  // of the current row: each block searched and checked once, not once per element
+  for (size_t v = 0; good && v < nv; ++v) {
+    const PetscInt row = vc.rowOf[v];  // local (unit) row of the vertex's first dof
+    found.clear();
+    for (PetscInt k0 = rp.firstPlace[v]; good && row >= 0 && k0 < rp.firstPlace[v + 1]; ++k0) {
+      const size_t place = static_cast<size_t>(rp.places[k0]), e = place / NV;
+      const PetscInt *vertex = &rp.cellVertex[e * NV];
       for (int b = 0; b < NV; ++b) {
-        const VertexInfo &wi = verts[vertex[b]];
-        if (wi.numFree == 0) continue;
-        const bool local = wi.global >= colStart && wi.global < colEnd;
-        const int p = local ? 0 : 1;
-        PetscInt col;
-        if (local) col = (wi.global - colStart) / unit;
-        else {  // the off-diagonal part's compressed column: garray is sorted (the global columns in order)
-          if (!garray) { good = false; break; }
-          const PetscInt *at = std::lower_bound(garray, garray + garrayLength, wi.global / unit);
-          if (at == garray + garrayLength || *at != wi.global / unit) { good = false; break; }
-          col = at - garray;
+        const PetscInt w = vertex[b];
+        const PetscInt col = vc.columnOf[w];
+        if (col == -1) continue;  // held
+        const int p = vc.partOf[w];
+        PetscInt k = -1;
+        for (const Found &f : found)
+          if (f.column == col && f.part == p) {
+            k = f.at;
+            break;
+          }
+        if (k < 0) {
+          k = col < 0 ? -1 : locate(p, row, col);
+          if (k < 0) { good = false; break; }
+          if (!blocked_) {  // AIJ: the vertex's R rows have the same length and hold the R columns of w side by side
+            const PetscInt length = ia[p][row + 1] - ia[p][row];
+            for (int i = 0; good && i < R; ++i) {
+              good = ia[p][row + i + 1] - ia[p][row + i] == length;
+              for (int j = 0; good && j < R; ++j)  // off-diagonal columns are compressed: global ids via garray
+                good = ja[p][k + i * length + j] == col + j && (p == 0 || garray[col + j] == verts[w].global + j);
+            }
+            if (!good) break;
+            rowLength_[p][v] = static_cast<std::int32_t>(length);
+          }
+          found.push_back(Found{p, col, k});
         }
-        const PetscInt k = locate(p, row, col);
-        if (k < 0) { good = false; break; }
-        if (blocked_) {
-          position_[(e * NV + a) * NV + b] = static_cast<std::int32_t>(2 * (k * R * R) + p);
-          continue;
-        }
-        // AIJ: the vertex's R rows have the same length and hold the R columns of w side by side
-        const PetscInt length = ia[p][row + 1] - ia[p][row];
-        for (int i = 0; good && i < R; ++i) {
-          good = ia[p][row + i + 1] - ia[p][row + i] == length;
-          for (int j = 0; good && j < R; ++j)  // off-diagonal columns are compressed: their global ids via garray
-            good = ja[p][k + i * length + j] == col + j && (p == 0 || garray[col + j] == wi.global + j);
-        }
-        if (!good) break;
-        rowLength_[p][vertex[a]] = static_cast<std::int32_t>(length);
-        position_[(e * NV + a) * NV + b] = static_cast<std::int32_t>(2 * k + p);
+        position_[place * NV + b] = static_cast<std::int32_t>(blocked_ ? 2 * (k * R * R) + p : 2 * k + p);
       }
     }
   }
