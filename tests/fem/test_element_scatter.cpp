@@ -131,7 +131,7 @@ PetscErrorCode createMatrix(const Chain<NV, R> &chain, MatType type, Mat *J, boo
 // HessianPattern's pattern against MATPREALLOCATOR's, row by row: the same, except that PETSc 3.18's preallocator
 // keys a skipped column (-1, a held dof) as block -1 / bs, which C rounds to block 0, so with bs > 1 the rows that
 // touch a held vertex get block column 0 as a (zero) entry they do not couple to. The recorder leaves it out.
-// (In aries' Hessian: 0.3% of the entries of the peer box's, 125k tets on 2 ranks; results move at round-off with GAMG.)
+// (In aries' Hessian: 0.3% of the entries on the peer box, 125k tets, 2 ranks; results move at round-off with GAMG.)
 template <int NV, int R>
 PetscErrorCode checkPattern(const Chain<NV, R> &chain, MatType type, const std::string &name) {
   Mat ours, petsc;

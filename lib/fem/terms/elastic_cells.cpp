@@ -54,7 +54,8 @@ PetscErrorCode ElasticCells<R, C, NV>::addHessian(const PetscScalar *x, const He
     const Cell &cell = cells_[c];
     if (ierr || productSkips<NV, R>(verts_, cell.vertex, how)) return;
     K.setZero();
-    for (int q = 0; q < (how.patternOnly ? 0 : NQ); ++q) {  // filtered per point, or summed unfiltered and the element filtered below
+    const int points = how.patternOnly ? 0 : NQ;  // pattern mode: the insertion of a zero matrix is all that counts
+    for (int q = 0; q < points; ++q) {  // filtered per point, or summed unfiltered and the element filtered below
       const auto d = how.wholeElement ? energies::evaluateEnergy<R, C>(materialOf(c), dataOf(c),
                                                                        deformationGradient(c, q, x),
                                                                        kernels::Order::Hessian)
