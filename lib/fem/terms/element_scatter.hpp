@@ -88,7 +88,9 @@ class ElementScatter {
     Mat mat = nullptr;
     PetscScalar *values = nullptr;
   };
-  PetscErrorCode find(Mat J, const VertexTable &verts, size_t count, const PetscInt *const *vertexLists,
+  // cellVertex: the elements' local vertices side by side (NV per element, -1 for one not owned), read row by row
+  // below (read in place from the terms' element records, each element was a cache miss).
+  PetscErrorCode find(Mat J, const VertexTable &verts, const std::vector<PetscInt> &cellVertex,
                       const std::vector<char> &ownedCells, bool *ok);
   // Per local vertex: its (unit) row where owned and free, else -1; its column in part 0 or 1 where free, else -1
   // (-2: a free vertex the off-diagonal part does not list).
@@ -99,13 +101,12 @@ class ElementScatter {
   static void vertexColumns(const VertexTable &verts, PetscInt unit, PetscInt rowStart, PetscInt colStart,
                             PetscInt colEnd, const PetscInt *garray, PetscInt garrayLength, VertexColumns *vc);
   // The (element, corner) places of every row's vertex (firstPlace[v] .. firstPlace[v + 1] in places), so find()
-  // searches each row's column indices while they are in cache and each of its column blocks once, and the elements'
-  // vertices copied side by side for it (read in place, each element was a cache miss). Element by element, every
-  // search was a miss: 1.9% of the 1M-tet peer box's samples, 1.15% this way.
+  // searches each row's column indices while they are in cache and each of its column blocks once. Element by
+  // element, every search was a miss: 1.9% of the 1M-tet peer box's samples, 1.15% this way.
   struct RowPlaces {
-    std::vector<PetscInt> cellVertex, firstPlace, places;
+    std::vector<PetscInt> firstPlace, places;
   };
-  static void placesByRow(size_t count, const PetscInt *const *vertexLists, const std::vector<char> &ownedCells,
+  static void placesByRow(const std::vector<PetscInt> &cellVertex, const std::vector<char> &ownedCells,
                           const std::vector<PetscInt> &rowOf, RowPlaces *rp);
 
   PetscInt64 matId_ = -1;
@@ -134,13 +135,13 @@ PetscErrorCode ElementScatter<NV, R>::prepare(Mat J, const VertexTable &verts, s
   if ((PetscInt64)id != matId_ || pattern != pattern_) {
     matId_ = (PetscInt64)id;
     pattern_ = pattern;
-    std::vector<const PetscInt *> lists(count);
+    std::vector<PetscInt> cellVertex(count * NV, -1);
     std::vector<char> ownedCells(count);
     for (size_t e = 0; e < count; ++e) {
-      lists[e] = vertexOf(e);
       ownedCells[e] = owned(e);
+      if (ownedCells[e]) std::copy_n(vertexOf(e), NV, cellVertex.begin() + e * NV);
     }
-    PetscCall(find(J, verts, count, lists.data(), ownedCells, &usable_));
+    PetscCall(find(J, verts, cellVertex, ownedCells, &usable_));
   }
   *direct = usable_;
   PetscFunctionReturn(0);
@@ -169,34 +170,28 @@ void ElementScatter<NV, R>::vertexColumns(const VertexTable &verts, PetscInt uni
 }
 
 template <int NV, int R>
-void ElementScatter<NV, R>::placesByRow(size_t count, const PetscInt *const *vertexLists,
-                                        const std::vector<char> &ownedCells, const std::vector<PetscInt> &rowOf,
-                                        RowPlaces *rp) {
-  const size_t nv = rowOf.size();
-  rp->cellVertex.assign(count * NV, -1);
+void ElementScatter<NV, R>::placesByRow(const std::vector<PetscInt> &cellVertex, const std::vector<char> &ownedCells,
+                                        const std::vector<PetscInt> &rowOf, RowPlaces *rp) {
+  const size_t nv = rowOf.size(), count = ownedCells.size();
   rp->firstPlace.assign(nv + 1, 0);
-  for (size_t e = 0; e < count; ++e) {
-    if (!ownedCells[e]) continue;
-    for (int a = 0; a < NV; ++a) {
-      rp->cellVertex[e * NV + a] = vertexLists[e][a];
-      if (rowOf[vertexLists[e][a]] >= 0) ++rp->firstPlace[vertexLists[e][a] + 1];
-    }
-  }
+  for (size_t e = 0; e < count; ++e)
+    if (ownedCells[e])
+      for (int a = 0; a < NV; ++a)
+        if (rowOf[cellVertex[e * NV + a]] >= 0) ++rp->firstPlace[cellVertex[e * NV + a] + 1];
   for (size_t v = 0; v < nv; ++v) rp->firstPlace[v + 1] += rp->firstPlace[v];
   rp->places.resize(rp->firstPlace[nv]);
   std::vector<PetscInt> next(rp->firstPlace.begin(), rp->firstPlace.end() - 1);
   for (size_t e = 0; e < count; ++e)
     if (ownedCells[e])
       for (int a = 0; a < NV; ++a) {
-        const PetscInt v = rp->cellVertex[e * NV + a];
+        const PetscInt v = cellVertex[e * NV + a];
         if (rowOf[v] >= 0) rp->places[next[v]++] = static_cast<PetscInt>(e * NV + a);
       }
 }
 
 template <int NV, int R>
-PetscErrorCode ElementScatter<NV, R>::find(Mat J, const VertexTable &verts, size_t count,
-                                           const PetscInt *const *vertexLists, const std::vector<char> &ownedCells,
-                                           bool *ok) {
+PetscErrorCode ElementScatter<NV, R>::find(Mat J, const VertexTable &verts, const std::vector<PetscInt> &cellVertex,
+                                           const std::vector<char> &ownedCells, bool *ok) {
   PetscBool seqAij, mpiAij, seqBaij, mpiBaij;
   PetscInt bs, rowStart, rowEnd, colStart, colEnd;
   const PetscInt *garray = nullptr;
@@ -238,7 +233,7 @@ PetscErrorCode ElementScatter<NV, R>::find(Mat J, const VertexTable &verts, size
   for (int p = 0; good && p < 2; ++p) good = !parts_[p].mat || (PetscInt64)ia[p][rows[p]] * valuesPerEntry < limit;
   if (good) {
     for (auto &l : rowLength_) l.assign(verts.size(), 0);
-    position_.assign(count * NV * NV, kSkip);
+    position_.assign(ownedCells.size() * NV * NV, kSkip);
   }
   // The position in part p of the column block of global (unit) column c in local (unit) row r; -1 if absent.
   auto locate = [&](int p, PetscInt r, PetscInt c) -> PetscInt {
@@ -250,7 +245,7 @@ PetscErrorCode ElementScatter<NV, R>::find(Mat J, const VertexTable &verts, size
   RowPlaces rp;
   if (good) {
     vertexColumns(verts, unit, rowStart, colStart, colEnd, garray, garrayLength, &vc);
-    placesByRow(count, vertexLists, ownedCells, vc.rowOf, &rp);
+    placesByRow(cellVertex, ownedCells, vc.rowOf, &rp);
   }
   const size_t nv = verts.size();
   struct Found {  // a column block of the current row: its part, column and position
@@ -263,7 +258,7 @@ PetscErrorCode ElementScatter<NV, R>::find(Mat J, const VertexTable &verts, size
     found.clear();
     for (PetscInt k0 = rp.firstPlace[v]; good && row >= 0 && k0 < rp.firstPlace[v + 1]; ++k0) {
       const size_t place = static_cast<size_t>(rp.places[k0]), e = place / NV;
-      const PetscInt *vertex = &rp.cellVertex[e * NV];
+      const PetscInt *vertex = &cellVertex[e * NV];
       for (int b = 0; b < NV; ++b) {
         const PetscInt w = vertex[b];
         const PetscInt col = vc.columnOf[w];
