@@ -47,7 +47,8 @@ PetscErrorCode numberFacets(DM dm, PetscInt cStart, PetscInt cEnd, TetFacets *t)
     const PetscInt *cone;
     PetscCall(DMPlexGetCone(dm, c, &cone));
     for (int f = 0; f < 4; ++f) {
-      const std::array<PetscInt, 3> raw = {cone[kTetrahedronFaces[f][0]], cone[kTetrahedronFaces[f][1]], cone[kTetrahedronFaces[f][2]]};
+      const int *face = kTetrahedronFaces[f];
+      const std::array<PetscInt, 3> raw = {cone[face[0]], cone[face[1]], cone[face[2]]};
       bool inserted;
       const PetscInt id = faces.number(sortedTuple(raw), &inserted);
       PetscInt ornt = 0;

@@ -1,6 +1,6 @@
 // Sorted tuples of vertex numbers to consecutive numbers in order of first sight, and a tetrahedron's faces: the faces
-// and edges of a mesh made from its cells (mesh/mesh_interpolate.cpp) and the cells' face neighbours (mesh/mesh_partition.cpp). Internal to
-// lib/mesh.
+// and edges of a mesh made from its cells (mesh/mesh_interpolate.cpp) and the cells' face neighbours
+// (mesh/mesh_partition.cpp). Internal to lib/mesh.
 #pragma once
 
 #include <petscsys.h>
