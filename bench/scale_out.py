@@ -36,7 +36,8 @@ RESOURCES = re.compile(r"aries: wall time setup ([\d.]+) s, steps ([\d.]+) s \(m
                        r"output ([\d.]+) s; peak memory per rank (.*) MB")
 SUMMARY = re.compile(r"aries: (\d+) steps, (\d+) DoFs: Newton ([\d.]+)/step, PCG ([\d.]+)/step")
 
-SOLVERS = {  # the paper's configuration; GAMG as the rule sets it up (ex56's smoothed aggregation, lagged 2); BoomerAMG
+SOLVERS = {  # the paper's configuration; GAMG by the rule (ex56's smoothed aggregation) and by hand (lagged 2: the
+    # rule's -multigrid_reuse_growth is aries' own, for GAMG by the rule only); BoomerAMG
     "jacobi": ["-pc_type", "jacobi"],
     "gamg": ["-multigrid_min_dofs", "0"],
     # the rule's GAMG by hand, for dynamic scenes (where the rule keeps Jacobi)

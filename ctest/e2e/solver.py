@@ -216,19 +216,23 @@ def case_multigrid_rule():
     (announced on one line; lowered here to 0 for a test mesh), and ends where CG + Jacobi does (within the Newton
     tolerance); -pc_type jacobi, a dynamic run or -multigrid_min_dofs -1 keep CG + Jacobi; -pc_type gamg given by the
     user runs too (aries assembles AIJ for it: PETSc 3.18's GAMG cannot coarsen BAIJ); the static scramble's detached
-    relaxation inherits GAMG and converges."""
+    relaxation inherits GAMG and converges. GAMG by rule keeps its hierarchy across Newton systems
+    (-multigrid_reuse_growth, -newton_history column pc_built): some systems reuse one, and with -multigrid_reuse_growth
+    0 every system builds its own and the run ends where the reusing one does (1e-6 L)."""
     body = ["-dm_plex_filename", mesh("cube"), "-energy", "iarap", "-E", "1e4", "-nu", "0.3", "-bc_clamp", "bottom,top",
             "-bc_clamp_top_translate", "0,0,-0.1", "-strict"]
     cube = body + ["-integrator", "static", "-steps", "2", "-newton_tol", "1e-8"]
     announced = "aries: linear solver CG + GAMG"
-    states = {}
+    states, built = {}, {}
     for label, extra, gamg in (("rule", ["-multigrid_min_dofs", "0"], True),
+                               ("rebuild", ["-multigrid_min_dofs", "0", "-multigrid_reuse_growth", "0"], True),
                                ("jacobi", ["-multigrid_min_dofs", "0", "-pc_type", "jacobi"], False),
                                ("user_gamg", ["-pc_type", "gamg"], False),
                                ("default", [], False), ("never", ["-multigrid_min_dofs", "-1"], False)):
         tag = "mg_rule_%s_np%d" % (label, ARGS.ranks)
-        log, _ = run(cube + extra + ["-output", out_base(tag), "-output_every", "2", "-stats", out_base(tag) + ".csv"],
-                     tag=tag)
+        log, _ = run(cube + extra + ["-output", out_base(tag), "-output_every", "2", "-stats", out_base(tag) + ".csv",
+                                     "-newton_history", out_base(tag) + "_newton.csv"], tag=tag)
+        built[label] = [int(h["pc_built"]) for h in csv_rows(out_base(tag) + "_newton.csv")]
         if (announced in log) != gamg:
             fail("%s: GAMG %s announced" % (label, "not" if gamg else "wrongly"))
         if not all(r["reason"] in CONVERGED for r in stats(out_base(tag) + ".csv")):
@@ -240,6 +244,16 @@ def case_multigrid_rule():
     print("GAMG by rule vs CG + Jacobi: %.2e L" % d)
     if not d <= 1e-6:
         fail("GAMG and Jacobi runs end %.3e L apart" % d)
+    d = np.abs(x_gamg - states["rebuild"][2]).max() / L
+    print("preconditioner built per Newton system (pc_built): reused %s, rebuilt %s, Jacobi %s; apart %.2e L" % (
+        built["rule"], built["rebuild"], built["jacobi"], d))
+    if built["rule"][0] != 1 or 0 not in built["rule"]:
+        fail("GAMG by rule should build its first hierarchy and keep it for a later system: %s" % built["rule"])
+    if 0 in built["rebuild"] or 0 in built["jacobi"]:
+        fail("-multigrid_reuse_growth 0 and Jacobi build for every system: %s, %s" % (built["rebuild"],
+                                                                                   built["jacobi"]))
+    if not d <= 1e-6:
+        fail("keeping the hierarchy and building it for every system end %.3e L apart" % d)
     tag = "mg_rule_dynamic_np%d" % ARGS.ranks
     log, _ = run(body + ["-integrator", "beuler", "-dt", "1e-2", "-density", "1000", "-steps", "2",
                          "-multigrid_min_dofs", "0"], tag=tag)

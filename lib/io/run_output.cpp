@@ -117,7 +117,9 @@ PetscErrorCode RunOutput::setup(const OutputOptions &opts, const CheckpointOptio
   if (!opts.newtonHistory.empty()) {
     if (rank == 0) {
       history_ = makeParentDirectory(opts.newtonHistory) ? std::fopen(opts.newtonHistory.c_str(), "w") : nullptr;
-      if (history_) std::fprintf(history_, "step,iteration,energy,residual,step_inf,lambda,ksp_its,filter,subspace,rotation,level,load,lifted,extrapolated,solve\n");
+      if (history_)
+        std::fprintf(history_, "step,iteration,energy,residual,step_inf,lambda,ksp_its,filter,subspace,rotation,level,"
+                               "load,lifted,extrapolated,solve,pc_built\n");
     }
     PetscCall(core::collectiveCheck(comm_, rank == 0 && !history_,
                                    "cannot open Newton history file '" + opts.newtonHistory +
@@ -290,10 +292,10 @@ PetscErrorCode RunOutput::record(const solver::Simulation &sim, const solver::St
     for (const auto *rows : {&rep.coarse.history, &rep.newton.history})
       for (const auto &h : *rows) {
         if (h.firstOfSolve || solve == 0) ++solve;
-        std::fprintf(history_, "%d,%d,%.17g,%.6e,%.6e,%.6g,%d,%s,%d,%g,%d,%.17g,%d,%g,%d\n", (int)rep.step,
+        std::fprintf(history_, "%d,%d,%.17g,%.6e,%.6e,%.6g,%d,%s,%d,%g,%d,%.17g,%d,%g,%d,%d\n", (int)rep.step,
                      (int)h.iteration, h.energy, h.residual, h.stepInf, h.lambda, (int)h.linearIterations,
                      h.filter == 'a' ? "abs" : h.filter == 'n' ? "none" : "clamp", h.accelerated ? 1 : 0, h.rotation,
-                     h.level, h.load, h.lifted ? 1 : 0, h.extrapolated, solve);
+                     h.level, h.load, h.lifted ? 1 : 0, h.extrapolated, solve, h.preconditionerBuilt ? 1 : 0);
       }
     std::fflush(history_);
   }

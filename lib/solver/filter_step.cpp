@@ -91,6 +91,7 @@ PetscErrorCode HessianFilter::repairDirection(NewtonContext &ctx, Direction &d, 
     PetscCall(ctx.endAssembly());
   }
   PetscCall(KSPSetReusePreconditioner(ksp, PETSC_FALSE));
+  ctx.preconditioner.beginSystem(true);  // a new matrix: the filtered one
   PetscCall(KSPSetOperators(ksp, ctx.J, ctx.J));
   PetscCall(chooseStart(ctx, ksp, F, Y));
   PetscCall(KSPSolve(ksp, F, Y));
@@ -98,7 +99,9 @@ PetscErrorCode HessianFilter::repairDirection(NewtonContext &ctx, Direction &d, 
   PetscCall(KSPGetIterationNumber(ksp, &its));
   ++ctx.result.linearSolves;
   if (reason == KSP_DIVERGED_ITS) ++ctx.result.linearAtLimit;
+  ctx.preconditioner.endSystem(its, linearSolveSolved(reason));
   d.record.linearIterations = its;
+  d.record.preconditionerBuilt = true;
   d.record.filter = filterTag(filtered_);
   *changed = PETSC_TRUE;
   PetscFunctionReturn(0);

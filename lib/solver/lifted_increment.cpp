@@ -61,9 +61,9 @@ PetscErrorCode NewtonSolver::gradientAt(Vec xLocal, Vec gLocal, Vec gGlobal) {
 }
 
 // The lifted direction at the model of load `target` with the supports at g(s): b = r_f + H_fd d (the coupling H_fd d
-// given), H_ff p = b with the Newton solver's KSP (a fresh preconditioner, a zero start, at -ksp_rtol; PETSc's
-// Eisenstat-Walker hook, which only works inside SNESSolve, off for it). rec: the row's energy, residual, step and
-// Krylov iterations.
+// given), H_ff p = b with the Newton solver's KSP (a new preconditioner unless -multigrid_reuse_growth keeps the last
+// one, a zero start, at -ksp_rtol; PETSc's Eisenstat-Walker hook, which only works inside SNESSolve, off for it).
+// rec: the row's energy, residual, step and Krylov iterations.
 PetscErrorCode NewtonSolver::liftedDirection(Vec xLocal, Vec coupling, Vec b, Vec p, IterationRecord *rec,
                                              bool *solved) {
   NewtonContext &c = ctx_;
@@ -93,17 +93,20 @@ PetscErrorCode NewtonSolver::liftedDirection(Vec xLocal, Vec coupling, Vec b, Ve
   PetscCall(SNESKSPSetUseEW(c.snes, PETSC_FALSE));
   PetscCall(KSPSetTolerances(ksp, check_->baseLinearRtol(), abstol, dtol, maxit));
   PetscCall(KSPSetInitialGuessNonzero(ksp, PETSC_FALSE));
-  PetscCall(KSPSetReusePreconditioner(ksp, PETSC_FALSE));
+  PetscCall(KSPSetReusePreconditioner(ksp, c.preconditioner.beginSystem() ? PETSC_FALSE : PETSC_TRUE));
   PetscCall(KSPSetOperators(ksp, c.J, c.J));
   PetscCall(KSPSolve(ksp, b, p));
+  PetscCall(KSPGetConvergedReason(ksp, &reason));
+  ++c.result.linearSolves;
+  if (reason == KSP_DIVERGED_ITS) ++c.result.linearAtLimit;
+  PetscCall(c.finishSystem(ksp, b, p));  // may solve it again with a new preconditioner
   PetscCall(KSPSetTolerances(ksp, rtol, abstol, dtol, maxit));
   PetscCall(KSPSetInitialGuessNonzero(ksp, guess));
   PetscCall(SNESKSPSetUseEW(c.snes, ew));
   PetscCall(KSPGetConvergedReason(ksp, &reason));
   PetscCall(KSPGetIterationNumber(ksp, &its));
-  ++c.result.linearSolves;
-  if (reason == KSP_DIVERGED_ITS) ++c.result.linearAtLimit;
   rec->linearIterations = its;
+  rec->preconditionerBuilt = c.preconditioner.built();
   PetscCall(VecNorm(p, NORM_INFINITY, &rec->stepInf));
   *solved = linearSolveSolved(reason);
   PetscFunctionReturn(0);

@@ -161,8 +161,8 @@ PetscErrorCode NewtonSolver::configureMultigrid() {
 // bench/scale_out.py): on a static system CG + Jacobi's iterations grow with 1/h and GAMG's do not, but a GAMG
 // iteration costs about eight Jacobi ones (its share of the rebuilds included) and the AIJ assembly is slower: level
 // at 43k free dofs on the cube, ahead from 197k on. A static solve with at least
-// -multigrid_min_dofs free dofs gets GAMG (smoothed aggregation, the rigid near-nullspace, AIJ, rebuilt every second
-// Newton iteration); everything else the paper's CG + Jacobi, and so does a dynamic solve at any size: the inertia
+// -multigrid_min_dofs free dofs gets GAMG (smoothed aggregation, the rigid near-nullspace, AIJ, kept across Newton
+// systems while its solves stay fast: -multigrid_reuse_growth); everything else the paper's CG + Jacobi, and so does a dynamic solve at any size: the inertia
 // term keeps Jacobi's iterations low and makes the Hessian too diagonally dominant for GAMG's aggregation. A user
 // -dm_mat_type other than AIJ keeps Jacobi (GAMG in PETSc 3.18 cannot coarsen BAIJ). One exception to Jacobi: backward
 // Euler from a scramble, invert or collapse start of a 3D solid with fiber terms (NewtonOptions::fiberDegenerateStart)
@@ -382,9 +382,11 @@ PetscErrorCode NewtonSolver::setup(fem::Discretization &disc, const NewtonOption
       PetscCall(PetscOptionsSetValue(nullptr, smooths.c_str(), "1"));
       PetscCall(PetscOptionsGetInt(nullptr, nullptr, smooths.c_str(), &one, nullptr));
     }
-    // the hierarchy rebuilt every second Newton iteration (a lagged preconditioner is still SPD, CG stays valid):
-    // 1.2x less wall time than every iteration on the 1M-tet cube, the same PCG count (bench/scale_out.py)
-    PetscCall(SNESSetLagPreconditioner(snes, 2));
+    // the hierarchy kept across Newton systems while its solves stay fast (preconditioner_reuse.hpp): a kept
+    // preconditioner is still a fixed SPD one, CG stays valid. A user -snes_lag_preconditioner is PETSc's rule instead.
+    PetscBool userLag = PETSC_FALSE;
+    PetscCall(PetscOptionsHasName(nullptr, prefix, "-snes_lag_preconditioner", &userLag));
+    if (!userLag) ctx_.preconditioner.enable(opts_.multigridReuseGrowth);
   }
   PetscCall(SNESSetFromOptions(snes));
   PetscCall(check_->setup(ctx_));

@@ -113,6 +113,30 @@ PetscErrorCode NewtonContext::startFromInertia(Mat H, Vec g, Vec p) {
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode NewtonContext::finishSystem(KSP ksp, Vec b, Vec x) {
+  KSPConvergedReason reason;
+  PetscInt its;
+  PetscFunctionBeginUser;
+  PetscCall(KSPGetConvergedReason(ksp, &reason));
+  PetscCall(KSPGetIterationNumber(ksp, &its));
+  const bool kept = preconditioner.enabled() && !preconditioner.built();
+  if (kept && !linearSolveSolved(reason) && reason != KSP_DIVERGED_INDEFINITE_MAT) {
+    PetscBool guess;
+    PetscCall(KSPGetInitialGuessNonzero(ksp, &guess));
+    PetscCall(KSPSetInitialGuessNonzero(ksp, PETSC_FALSE));
+    PetscCall(KSPSetReusePreconditioner(ksp, PETSC_FALSE));
+    preconditioner.beginSystem(true);
+    PetscCall(KSPSolve(ksp, b, x));
+    PetscCall(KSPSetInitialGuessNonzero(ksp, guess));
+    PetscCall(KSPGetConvergedReason(ksp, &reason));
+    PetscCall(KSPGetIterationNumber(ksp, &its));
+    ++result.linearSolves;
+    if (reason == KSP_DIVERGED_ITS) ++result.linearAtLimit;
+  }
+  preconditioner.endSystem(its, linearSolveSolved(reason));
+  PetscFunctionReturn(0);
+}
+
 void NewtonContext::declareConverged(Convergence how) {
   result.convergence = how;
   SNESSetConvergedReason(snes, SNES_CONVERGED_SNORM_RELATIVE);
@@ -141,6 +165,9 @@ PetscErrorCode NewtonSolver::jacobianLocal(DM, Vec xLocal, Mat, Mat P, void *ctx
   PetscCall(self->ctx_.beginAssembly());
   PetscCall(self->ctx_.disc->hessian(xLocal, P));
   PetscCall(self->ctx_.endAssembly());
+  // SNESComputeJacobian reads the lag after this callback: -1 keeps the preconditioner, 1 builds it for this system
+  PreconditionerReuse &pc = self->ctx_.preconditioner;
+  if (pc.enabled()) PetscCall(SNESSetLagPreconditioner(self->ctx_.snes, pc.beginSystem() ? 1 : -1));
   if (self->ctx_.inertiaGuess) {
     Vec g, p;
     PetscCall(SNESGetFunction(self->ctx_.snes, &g, nullptr, nullptr));
@@ -209,11 +236,17 @@ PetscErrorCode NewtonSolver::preCheck(SNESLineSearch, Vec X, Vec Y, PetscBool *c
     PetscCall(VecCopy(X, self->local_.before));
   }
   if (linearReason == KSP_DIVERGED_ITS) ++c.result.linearAtLimit;
+  const PetscInt solvesBefore = c.result.linearSolves;
+  PetscCall(c.finishSystem(ksp, F, Y));  // may solve it again with a new preconditioner
+  if (c.result.linearSolves != solvesBefore) *changed = PETSC_TRUE;
+  PetscCall(KSPGetConvergedReason(ksp, &linearReason));
+  PetscCall(KSPGetIterationNumber(ksp, &its));
   Direction &d = self->pending_;
   d = Direction{};
   d.record.iteration = iter + c.iterationOffset;
   d.record.load = c.disc->load();
   d.record.linearIterations = its;
+  d.record.preconditionerBuilt = c.preconditioner.built();
   d.record.filter = filterTag(c.disc->eigenFilter());
   PetscCall(VecNorm(F, NORM_2, &d.record.residual));
   self->havePending_ = true;

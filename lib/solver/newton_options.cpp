@@ -56,7 +56,10 @@ PetscErrorCode readNewtonOptions(bool dynamic, const NewtonOptions *base, const 
   PetscCall(core::getChoice(opt::nearNullspace, &nullspace, nullptr, at));
   o->rigidNearNullspace = nullspace == 0;
   // the preconditioner rule is the run's: a phase's solver (the detached start) inherits its choice
-  if (!base) PetscCall(core::get(opt::multigridMinDofs, &o->multigridMinDofs, nullptr, at));
+  if (!base) {
+    PetscCall(core::get(opt::multigridMinDofs, &o->multigridMinDofs, nullptr, at));
+    PetscCall(core::get(opt::multigridReuseGrowth, &o->multigridReuseGrowth, nullptr, at));
+  }
   PetscFunctionReturn(0);
 }
 

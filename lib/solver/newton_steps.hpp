@@ -27,6 +27,7 @@
 #include "solver/convergence_rule.hpp"
 #include "solver/local_vec.hpp"
 #include "solver/newton_options.hpp"
+#include "solver/preconditioner_reuse.hpp"
 
 #include <petscsnes.h>
 
@@ -61,6 +62,7 @@ struct IterationRecord {
   bool lifted = false;      // a lifted update: the supports moved with it (lifted_increment.cpp)
   double extrapolated = 0.0;  // -newton_extrapolate's scale of the full step (2, 4, ...; 0: not extrapolated)
   bool firstOfSolve = false;  // the first row of a Newton solve (-newton_history's solve column counts them)
+  bool preconditionerBuilt = true;  // its linear solve built the preconditioner (false: reused, -multigrid_reuse_growth)
 };
 
 struct NewtonResult {
@@ -103,6 +105,7 @@ struct NewtonContext {
   PetscLogStage assemblyStage = -1;
   double assemblyStart = 0.0;
   NewtonResult result;    // the solve in progress
+  PreconditionerReuse preconditioner;  // whether a Newton system builds its preconditioner (-multigrid_reuse_growth)
 
   PetscErrorCode energyAt(Vec x, PetscReal *value, PetscReal *magnitude);  // total potential at a global state
   // While a solve runs (NewtonSolver::solve keeps it on; its load changes clear it): energyAt remembers the last state
@@ -123,6 +126,10 @@ struct NewtonContext {
   PetscErrorCode stepBound(Vec g, PetscReal *bound);
   // Backward Euler's start of the linear solve H p = g (-newton_inertia_guess): p <- the inertia-only step, or 0.
   PetscErrorCode startFromInertia(Mat H, Vec g, Vec p);
+  // After the KSP solved a Newton system H x = b: its outcome goes to `preconditioner`; a solve that failed with a
+  // kept preconditioner (not on negative curvature, which is the matrix's) is solved again from zero with a new one,
+  // counted as a solve of its own. The caller reads the KSP's reason and iterations afterwards.
+  PetscErrorCode finishSystem(KSP ksp, Vec b, Vec x);
   void declareConverged(Convergence how);
 };
 

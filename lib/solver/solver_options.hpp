@@ -224,10 +224,18 @@ inline constexpr OptionDecl multigridMinDofs =
         .byDefault("200000")
         .atLeast(-1);
 
+inline constexpr OptionDecl multigridReuseGrowth =
+    realOption("-multigrid_reuse_growth", "g",
+               "GAMG by the rule: Newton systems keep the multigrid hierarchy while each solve takes at most g times "
+               "the iterations of its first (10 at least); a failed solve is repeated with a new one; 0: a new one "
+               "for every system; -snes_lag_preconditioner turns it off")
+        .byDefault("1.5")
+        .atLeast(0);
+
 inline constexpr const OptionDecl *kNewtonOptions[] = {
     &newtonTol,      &alphaMin,          &psdProjection,  &psdEigensystem,     &psdScope,     &psdAdaptiveTol,
     &newtonExactHessian, &newtonExactStart, &newtonSubspace,
     &newtonSubspaceMax, &newtonExtrapolate, &newtonLocalSolve, &newtonRotation, &newtonForcing,  &liftIncrements,
-    &newtonInertiaGuess, &nearNullspace, &multigridMinDofs};
+    &newtonInertiaGuess, &nearNullspace, &multigridMinDofs, &multigridReuseGrowth};
 
 }  // namespace aries::solver::opt

@@ -1,0 +1,71 @@
+// The rule that keeps a multigrid hierarchy across Newton systems (solver/preconditioner_reuse.hpp,
+// -multigrid_reuse_growth): the first system builds; later ones keep it while the last solve took at most growth x the
+// iterations of the hierarchy's first solve (10 at least); a slower or failed solve makes the next system build; off,
+// every system builds.
+#include "solver/preconditioner_reuse.hpp"
+
+#include <gtest/gtest.h>
+
+using aries::solver::PreconditionerReuse;
+
+TEST(PreconditionerReuse, OffBuildsEverySystem) {
+  PreconditionerReuse rule;
+  rule.enable(0.0);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_TRUE(rule.beginSystem());
+    rule.endSystem(20, true);
+  }
+}
+
+TEST(PreconditionerReuse, KeepsWhileSolvesStayFast) {
+  PreconditionerReuse rule;
+  rule.enable(1.5);
+  EXPECT_TRUE(rule.beginSystem());  // nothing kept yet
+  EXPECT_TRUE(rule.built());
+  rule.endSystem(23, true);
+  EXPECT_FALSE(rule.beginSystem());  // the peer box's counts: 23, 27, 29 with one hierarchy
+  EXPECT_FALSE(rule.built());
+  rule.endSystem(27, true);
+  EXPECT_FALSE(rule.beginSystem());
+  rule.endSystem(34, true);  // below 1.5 x 23 = 34.5: still kept
+  EXPECT_FALSE(rule.beginSystem());
+  rule.endSystem(35, true);  // above 1.5 x 23: the next system builds
+  EXPECT_TRUE(rule.beginSystem());
+  rule.endSystem(30, true);  // the new hierarchy's first solve is the new reference
+  EXPECT_FALSE(rule.beginSystem());
+  rule.endSystem(45, true);
+  EXPECT_FALSE(rule.rebuildNext());
+  rule.endSystem(46, true);
+  EXPECT_TRUE(rule.rebuildNext());
+}
+
+TEST(PreconditionerReuse, FewIterationsAreJudgedAgainstTen) {
+  PreconditionerReuse rule;
+  rule.enable(1.5);
+  rule.beginSystem();
+  rule.endSystem(3, true);
+  rule.beginSystem();
+  rule.endSystem(15, true);  // 5x the first solve, but within 1.5 x 10
+  EXPECT_FALSE(rule.rebuildNext());
+  rule.beginSystem();
+  rule.endSystem(16, true);
+  EXPECT_TRUE(rule.rebuildNext());
+}
+
+TEST(PreconditionerReuse, FailuresBuildAgain) {
+  PreconditionerReuse rule;
+  rule.enable(1.5);
+  rule.beginSystem();
+  rule.endSystem(20, true);
+  EXPECT_FALSE(rule.beginSystem());
+  rule.endSystem(5, false);  // a kept hierarchy failed (CG indefinite, say)
+  EXPECT_TRUE(rule.rebuildNext());
+  EXPECT_TRUE(rule.beginSystem());
+  rule.endSystem(40, false);  // a new one failed too: no reference, the next system builds again
+  EXPECT_TRUE(rule.beginSystem());
+  rule.endSystem(12, true);
+  EXPECT_FALSE(rule.beginSystem());
+  EXPECT_TRUE(rule.beginSystem(true));  // forced (a filtered re-solve's new matrix)
+  rule.endSystem(13, true);
+  EXPECT_FALSE(rule.rebuildNext());
+}
