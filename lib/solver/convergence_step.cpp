@@ -135,13 +135,19 @@ PetscErrorCode ConvergenceCheck::testIterate(NewtonContext &ctx, PetscInt it, Pe
 
 // Inexact Newton with a step-aware stop (-newton_forcing eta): CG stops once its relative residual is below eta if
 // its iterate already shows a Newton step well above the convergence tolerance (this cannot be the last direction);
-// a direction that could certify convergence is always solved to -ksp_rtol.
+// a direction that could certify convergence is always solved to -ksp_rtol. A solve with a kept multigrid hierarchy
+// stops at its iteration limit (preconditioner_reuse.hpp) and is solved again with a new one.
 PetscErrorCode ConvergenceCheck::linearTest(KSP ksp, PetscInt it, PetscReal rnorm, KSPConvergedReason *reason,
                                             void *ctx) {
   auto *self = static_cast<ConvergenceCheck *>(ctx);
   Vec work = self->ctx_->work;
   PetscFunctionBeginUser;
   PetscCall(KSPConvergedDefault(ksp, it, rnorm, reason, self->defaultKspCtx_));
+  const long limit = self->ctx_->preconditioner.iterationLimit();  // a kept multigrid hierarchy gone stale
+  if (*reason == KSP_CONVERGED_ITERATING && limit >= 0 && it >= limit) {
+    *reason = KSP_DIVERGED_PC_FAILED;
+    PetscFunctionReturn(0);
+  }
   if (it == 0) {  // the reference of the relative test: |B b| (the preconditioned right-hand side), as KSP's own
     PetscBool guess;
     self->forcingStopped_ = false;

@@ -127,8 +127,9 @@ struct NewtonContext {
   // Backward Euler's start of the linear solve H p = g (-newton_inertia_guess): p <- the inertia-only step, or 0.
   PetscErrorCode startFromInertia(Mat H, Vec g, Vec p);
   // After the KSP solved a Newton system H x = b: its outcome goes to `preconditioner`; a solve that failed with a
-  // kept preconditioner (not on negative curvature, which is the matrix's) is solved again from zero with a new one,
-  // counted as a solve of its own. The caller reads the KSP's reason and iterations afterwards.
+  // kept preconditioner (stopped at its iteration limit, or any failure but negative curvature, which is the
+  // matrix's) is solved again from zero with a new one, counted as a solve of its own. The caller reads the KSP's
+  // reason and iterations afterwards.
   PetscErrorCode finishSystem(KSP ksp, Vec b, Vec x);
   void declareConverged(Convergence how);
 };

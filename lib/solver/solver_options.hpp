@@ -226,9 +226,9 @@ inline constexpr OptionDecl multigridMinDofs =
 
 inline constexpr OptionDecl multigridReuseGrowth =
     realOption("-multigrid_reuse_growth", "g",
-               "GAMG by the rule: Newton systems keep the multigrid hierarchy while each solve takes at most g times "
-               "the iterations of its first (10 at least); a failed solve is repeated with a new one; 0: a new one "
-               "for every system; -snes_lag_preconditioner turns it off")
+               "GAMG by the rule: up to 3 Newton systems share a multigrid hierarchy while each solve takes at most g "
+               "times the iterations of its first (10 at least); a slower one stops and is repeated with a new one; 0: "
+               "a new one for every system; -snes_lag_preconditioner turns it off")
         .byDefault("1.5")
         .atLeast(0);
 

@@ -1,7 +1,7 @@
 // The rule that keeps a multigrid hierarchy across Newton systems (solver/preconditioner_reuse.hpp,
 // -multigrid_reuse_growth): the first system builds; later ones keep it while the last solve took at most growth x the
-// iterations of the hierarchy's first solve (10 at least); a slower or failed solve makes the next system build; off,
-// every system builds.
+// iterations of the hierarchy's first solve (10 at least), for at most three systems; a slower or failed solve makes
+// the next system build, a solve with a kept one stops at the limit; off, every system builds.
 #include "solver/preconditioner_reuse.hpp"
 
 #include <gtest/gtest.h>
@@ -27,16 +27,30 @@ TEST(PreconditionerReuse, KeepsWhileSolvesStayFast) {
   EXPECT_FALSE(rule.built());
   rule.endSystem(27, true);
   EXPECT_FALSE(rule.beginSystem());
-  rule.endSystem(34, true);  // below 1.5 x 23 = 34.5: still kept
-  EXPECT_FALSE(rule.beginSystem());
-  rule.endSystem(35, true);  // above 1.5 x 23: the next system builds
+  rule.endSystem(29, true);
+  EXPECT_TRUE(rule.rebuildNext());  // three systems served: the next builds
   EXPECT_TRUE(rule.beginSystem());
   rule.endSystem(30, true);  // the new hierarchy's first solve is the new reference
   EXPECT_FALSE(rule.beginSystem());
-  rule.endSystem(45, true);
+  rule.endSystem(45, true);  // 1.5 x 30: still kept
   EXPECT_FALSE(rule.rebuildNext());
-  rule.endSystem(46, true);
-  EXPECT_TRUE(rule.rebuildNext());
+}
+
+TEST(PreconditionerReuse, SlowSolveBuildsAgain) {
+  PreconditionerReuse rule;
+  rule.enable(1.5);
+  rule.beginSystem();
+  rule.endSystem(23, true);
+  EXPECT_FALSE(rule.beginSystem());
+  rule.endSystem(34, true);  // below 1.5 x 23 = 34.5: still kept
+  EXPECT_FALSE(rule.rebuildNext());
+  PreconditionerReuse slow;
+  slow.enable(1.5);
+  slow.beginSystem();
+  slow.endSystem(23, true);
+  slow.beginSystem();
+  slow.endSystem(35, true);  // above 1.5 x 23: the next system builds
+  EXPECT_TRUE(slow.rebuildNext());
 }
 
 TEST(PreconditionerReuse, FewIterationsAreJudgedAgainstTen) {
@@ -47,9 +61,13 @@ TEST(PreconditionerReuse, FewIterationsAreJudgedAgainstTen) {
   rule.beginSystem();
   rule.endSystem(15, true);  // 5x the first solve, but within 1.5 x 10
   EXPECT_FALSE(rule.rebuildNext());
-  rule.beginSystem();
-  rule.endSystem(16, true);
-  EXPECT_TRUE(rule.rebuildNext());
+  PreconditionerReuse slow;
+  slow.enable(1.5);
+  slow.beginSystem();
+  slow.endSystem(3, true);
+  slow.beginSystem();
+  slow.endSystem(16, true);
+  EXPECT_TRUE(slow.rebuildNext());
 }
 
 TEST(PreconditionerReuse, FailuresBuildAgain) {
@@ -68,4 +86,26 @@ TEST(PreconditionerReuse, FailuresBuildAgain) {
   EXPECT_TRUE(rule.beginSystem(true));  // forced (a filtered re-solve's new matrix)
   rule.endSystem(13, true);
   EXPECT_FALSE(rule.rebuildNext());
+}
+
+TEST(PreconditionerReuse, KeptHierarchyStopsAtItsLimit) {
+  PreconditionerReuse rule;
+  rule.enable(1.5);
+  EXPECT_EQ(rule.iterationLimit(), -1);  // no system in progress
+  rule.beginSystem();
+  EXPECT_EQ(rule.iterationLimit(), -1);  // a new hierarchy solves to the end
+  rule.endSystem(97, true);
+  rule.beginSystem();
+  EXPECT_EQ(rule.iterationLimit(), 145);  // 1.5 x 97
+  rule.endSystem(145, false);             // stopped there: the next system builds
+  EXPECT_EQ(rule.iterationLimit(), -1);
+  EXPECT_TRUE(rule.beginSystem());
+  EXPECT_EQ(rule.iterationLimit(), -1);
+  rule.endSystem(4, true);
+  rule.beginSystem();
+  EXPECT_EQ(rule.iterationLimit(), 15);  // 1.5 x 10 at least
+  PreconditionerReuse off;
+  off.enable(0.0);
+  off.beginSystem();
+  EXPECT_EQ(off.iterationLimit(), -1);
 }
