@@ -313,10 +313,9 @@ PROBLEM = ("The problem: a box 1 x 1 x 2 (meshes/generate.sh box SIZE), bottom h
            "the step; DOLFINx: SNESSolve after the JIT compile), setup = from the start to the solve (aries: its "
            "`wall time setup`, mesh input included; DOLFINx: mesh input, function spaces, forms), total = the whole "
            "process (mesh input, setup, output). aries rows: `default` = aries' defaults (the preconditioner by its rule: GAMG from "
-           "-multigrid_min_dofs free DoFs), `gamg` = GAMG at every size (-multigrid_min_dofs 0), `gamg_rebuild` = the same "
-           "with a new GAMG hierarchy for every Newton system (-multigrid_reuse_growth 0; `gamg` keeps one while "
-           "its solves stay fast), `jacobi` = "
-           "-pc_type jacobi, `default_h5` = the defaults with the same mesh converted once to HDF5 (meshes/generate.sh "
+           "-multigrid_min_dofs free DoFs), `gamg` = GAMG at every size (-multigrid_min_dofs 0), `gamg_rebuild` = "
+           "the same with a new GAMG hierarchy for every Newton system (-multigrid_reuse_growth 0; `gamg` keeps one "
+           "while its solves stay fast), `jacobi` = -pc_type jacobi, `default_h5` = the defaults with the same mesh converted once to HDF5 (meshes/generate.sh "
            "h5 box SIZE, not timed: read by every rank in parallel, where a .msh is read by rank 0 and distributed; "
            "DOLFINx reads the .msh through gmsh on rank 0), `before` = -lift_increments never (the supports move alone first, as aries did "
            "before: the increment halved until the alpha safeguard accepts it, each part a Newton solve). Times "
@@ -377,9 +376,9 @@ def findings(find, sizes, cells, ranks):
         for s in sizes:
             kept, rebuilt = find.get(("aries", "gamg", s, n)), find.get(("aries", "gamg_rebuild", s, n))
             if kept and rebuilt:
-                lines.append("- %d rank%s, %s tets: GAMG keeping its hierarchy across Newton systems (`gamg`) against "
-                             "a new one for every system (`gamg_rebuild`): %.2fx the solve time (%.2f s against %.2f s), "
-                             "%d against %d Krylov iterations in %d and %d linear solves." % (
+                lines.append("- %d rank%s, %s tets: GAMG keeping its hierarchy across Newton systems (`gamg`) "
+                             "against a new one for every system (`gamg_rebuild`): %.2fx the solve time (%.2f s "
+                             "against %.2f s), %d against %d Krylov iterations in %d and %d linear solves." % (
                                  n, "s" if n > 1 else "", "{:,}".format(cells[s]),
                                  kept["solve_s"] / rebuilt["solve_s"], kept["solve_s"], rebuilt["solve_s"],
                                  kept["krylov"], rebuilt["krylov"], kept["linear_solves"], rebuilt["linear_solves"]))

@@ -160,9 +160,9 @@ PetscErrorCode NewtonSolver::configureMultigrid() {
 // The preconditioner when -pc_type is not given (docs/options.md, "The preconditioner rule"; measured by
 // bench/scale_out.py): on a static system CG + Jacobi's iterations grow with 1/h and GAMG's do not, but a GAMG
 // iteration costs about eight Jacobi ones (its share of the rebuilds included) and the AIJ assembly is slower: level
-// at 43k free dofs on the cube, ahead from 197k on. A static solve with at least
-// -multigrid_min_dofs free dofs gets GAMG (smoothed aggregation, the rigid near-nullspace, AIJ, kept across Newton
-// systems while its solves stay fast: -multigrid_reuse_growth); everything else the paper's CG + Jacobi, and so does a dynamic solve at any size: the inertia
+// at 43k free dofs on the cube, ahead from 197k on. A static solve with at least -multigrid_min_dofs free dofs gets
+// GAMG (smoothed aggregation, the rigid near-nullspace, AIJ, kept across Newton systems while its solves stay fast:
+// -multigrid_reuse_growth); everything else the paper's CG + Jacobi, and so does a dynamic solve at any size: the inertia
 // term keeps Jacobi's iterations low and makes the Hessian too diagonally dominant for GAMG's aggregation. A user
 // -dm_mat_type other than AIJ keeps Jacobi (GAMG in PETSc 3.18 cannot coarsen BAIJ). One exception to Jacobi: backward
 // Euler from a scramble, invert or collapse start of a 3D solid with fiber terms (NewtonOptions::fiberDegenerateStart)

@@ -58,7 +58,7 @@ struct NewtonOptions {
   bool inertiaGuess = false;       // -newton_inertia_guess (backward Euler)
   bool rigidNearNullspace = true;  // -near_nullspace rigid|none
   PetscInt multigridMinDofs = 200000;  // -multigrid_min_dofs: static solves this large use CG + GAMG (-1: never)
-  double multigridReuseGrowth = 1.5;    // -multigrid_reuse_growth: GAMG hierarchies kept across Newton systems (0: never)
+  double multigridReuseGrowth = 1.5;    // -multigrid_reuse_growth: GAMG kept across Newton systems (0: never)
   // Not an option: the run starts backward Euler from a scramble, invert or collapse state of a 3D solid with fiber
   // terms (set by Simulation::setup); the preconditioner rule then picks point-block Jacobi (NewtonSolver). (Such a
   // start, or one with a volume term, also defaults -newton_forcing to 0.01: opt::kDegenerateStartForcing.)

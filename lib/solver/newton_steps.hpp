@@ -62,7 +62,7 @@ struct IterationRecord {
   bool lifted = false;      // a lifted update: the supports moved with it (lifted_increment.cpp)
   double extrapolated = 0.0;  // -newton_extrapolate's scale of the full step (2, 4, ...; 0: not extrapolated)
   bool firstOfSolve = false;  // the first row of a Newton solve (-newton_history's solve column counts them)
-  bool preconditionerBuilt = true;  // its linear solve built the preconditioner (false: reused, -multigrid_reuse_growth)
+  bool preconditionerBuilt = true;  // its solve built the preconditioner (false: kept, -multigrid_reuse_growth)
 };
 
 struct NewtonResult {
