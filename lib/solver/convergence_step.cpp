@@ -87,8 +87,7 @@ PetscErrorCode ConvergenceCheck::shapeDirection(NewtonContext &ctx, Direction &d
       PetscCall(KSPSetInitialGuessNonzero(ksp, guess));
       PetscCall(SNESKSPSetUseEW(ctx.snes, ew));
       PetscCall(KSPGetConvergedReason(ksp, &linearReason));
-      ++ctx.result.linearSolves;
-      if (linearReason == KSP_DIVERGED_ITS) ++ctx.result.linearAtLimit;
+      ctx.countLinearSolve(linearReason);
       PetscCall(VecNorm(Y, NORM_INFINITY, &stepInf));
       PetscCall(VecDot(F, Y, &slope));
       d.record.stepInf = stepInf;

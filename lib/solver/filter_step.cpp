@@ -90,16 +90,10 @@ PetscErrorCode HessianFilter::repairDirection(NewtonContext &ctx, Direction &d, 
     PetscCall(ctx.disc->hessian(xl.get(), ctx.J));
     PetscCall(ctx.endAssembly());
   }
-  PetscCall(KSPSetReusePreconditioner(ksp, PETSC_FALSE));
-  ctx.preconditioner.beginSystem(true);  // a new matrix: the filtered one
   PetscCall(KSPSetOperators(ksp, ctx.J, ctx.J));
   PetscCall(chooseStart(ctx, ksp, F, Y));
-  PetscCall(KSPSolve(ksp, F, Y));
-  PetscCall(KSPGetConvergedReason(ksp, &reason));
+  PetscCall(ctx.solveWithNewPreconditioner(ksp, F, Y));  // a new matrix: the filtered one
   PetscCall(KSPGetIterationNumber(ksp, &its));
-  ++ctx.result.linearSolves;
-  if (reason == KSP_DIVERGED_ITS) ++ctx.result.linearAtLimit;
-  ctx.preconditioner.endSystem(its, linearSolveSolved(reason));
   d.record.linearIterations = its;
   d.record.preconditionerBuilt = true;
   d.record.filter = filterTag(filtered_);

@@ -97,8 +97,7 @@ PetscErrorCode NewtonSolver::liftedDirection(Vec xLocal, Vec coupling, Vec b, Ve
   PetscCall(KSPSetOperators(ksp, c.J, c.J));
   PetscCall(KSPSolve(ksp, b, p));
   PetscCall(KSPGetConvergedReason(ksp, &reason));
-  ++c.result.linearSolves;
-  if (reason == KSP_DIVERGED_ITS) ++c.result.linearAtLimit;
+  c.countLinearSolve(reason);
   PetscCall(c.finishSystem(ksp, b, p));  // may solve it again with a new preconditioner
   PetscCall(KSPSetTolerances(ksp, rtol, abstol, dtol, maxit));
   PetscCall(KSPSetInitialGuessNonzero(ksp, guess));

@@ -162,8 +162,8 @@ PetscErrorCode NewtonSolver::configureMultigrid() {
 // iteration costs about eight Jacobi ones (its share of the rebuilds included) and the AIJ assembly is slower: level
 // at 43k free dofs on the cube, ahead from 197k on. A static solve with at least -multigrid_min_dofs free dofs gets
 // GAMG (smoothed aggregation, the rigid near-nullspace, AIJ, kept across Newton systems while its solves stay fast:
-// -multigrid_reuse_growth); everything else the paper's CG + Jacobi, and so does a dynamic solve at any size: the inertia
-// term keeps Jacobi's iterations low and makes the Hessian too diagonally dominant for GAMG's aggregation. A user
+// -multigrid_reuse_growth); everything else the paper's CG + Jacobi, and so does a dynamic solve at any size: the
+// inertia term keeps Jacobi's iterations low and makes the Hessian too diagonally dominant for GAMG's aggregation. A user
 // -dm_mat_type other than AIJ keeps Jacobi (GAMG in PETSc 3.18 cannot coarsen BAIJ). One exception to Jacobi: backward
 // Euler from a scramble, invert or collapse start of a 3D solid with fiber terms (NewtonOptions::fiberDegenerateStart)
 // gets point-block Jacobi (each vertex's 3 x 3 diagonal block inverted), without a user -dm_mat_type: there the

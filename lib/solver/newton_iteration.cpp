@@ -124,17 +124,31 @@ PetscErrorCode NewtonContext::finishSystem(KSP ksp, Vec b, Vec x) {
     PetscBool guess;
     PetscCall(KSPGetInitialGuessNonzero(ksp, &guess));
     PetscCall(KSPSetInitialGuessNonzero(ksp, PETSC_FALSE));
-    PetscCall(KSPSetReusePreconditioner(ksp, PETSC_FALSE));
-    preconditioner.beginSystem(true);
-    PetscCall(KSPSolve(ksp, b, x));
+    PetscCall(solveWithNewPreconditioner(ksp, b, x));
     PetscCall(KSPSetInitialGuessNonzero(ksp, guess));
-    PetscCall(KSPGetConvergedReason(ksp, &reason));
-    PetscCall(KSPGetIterationNumber(ksp, &its));
-    ++result.linearSolves;
-    if (reason == KSP_DIVERGED_ITS) ++result.linearAtLimit;
+  } else {
+    preconditioner.endSystem(its, linearSolveSolved(reason));
   }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode NewtonContext::solveWithNewPreconditioner(KSP ksp, Vec b, Vec x) {
+  KSPConvergedReason reason;
+  PetscInt its;
+  PetscFunctionBeginUser;
+  PetscCall(KSPSetReusePreconditioner(ksp, PETSC_FALSE));
+  preconditioner.beginSystem(true);
+  PetscCall(KSPSolve(ksp, b, x));
+  PetscCall(KSPGetConvergedReason(ksp, &reason));
+  PetscCall(KSPGetIterationNumber(ksp, &its));
+  countLinearSolve(reason);
   preconditioner.endSystem(its, linearSolveSolved(reason));
   PetscFunctionReturn(0);
+}
+
+void NewtonContext::countLinearSolve(KSPConvergedReason reason) {
+  ++result.linearSolves;
+  if (reason == KSP_DIVERGED_ITS) ++result.linearAtLimit;
 }
 
 void NewtonContext::declareConverged(Convergence how) {
@@ -230,12 +244,11 @@ PetscErrorCode NewtonSolver::preCheck(SNESLineSearch, Vec X, Vec Y, PetscBool *c
   PetscCall(KSPGetIterationNumber(ksp, &its));
   PetscCall(SNESGetIterationNumber(c.snes, &iter));
   PetscCall(SNESGetFunction(c.snes, &F, nullptr, nullptr));
-  ++c.result.linearSolves;
+  c.countLinearSolve(linearReason);
   if (self->opts_.local.maxIterations > 0) {  // the local solve measures the update against it
     if (!self->local_.before) PetscCall(VecDuplicate(X, &self->local_.before));
     PetscCall(VecCopy(X, self->local_.before));
   }
-  if (linearReason == KSP_DIVERGED_ITS) ++c.result.linearAtLimit;
   const PetscInt solvesBefore = c.result.linearSolves;
   PetscCall(c.finishSystem(ksp, F, Y));  // may solve it again with a new preconditioner
   if (c.result.linearSolves != solvesBefore) *changed = PETSC_TRUE;

@@ -131,6 +131,11 @@ struct NewtonContext {
   // matrix's) is solved again from zero with a new one, counted as a solve of its own. The caller reads the KSP's
   // reason and iterations afterwards.
   PetscErrorCode finishSystem(KSP ksp, Vec b, Vec x);
+  // H x = b solved with a preconditioner built for the KSP's matrix now (a filtered re-solve, or finishSystem's),
+  // counted, its outcome to `preconditioner`.
+  PetscErrorCode solveWithNewPreconditioner(KSP ksp, Vec b, Vec x);
+  // A linear solve of the Newton solve in progress ended with `reason`: result.linearSolves and linearAtLimit.
+  void countLinearSolve(KSPConvergedReason reason);
   void declareConverged(Convergence how);
 };
 

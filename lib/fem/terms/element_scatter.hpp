@@ -256,7 +256,7 @@ PetscErrorCode ElementScatter<NV, R>::find(Mat J, const VertexTable &verts, cons
   for (size_t v = 0; good && v < nv; ++v) {
     const PetscInt row = vc.rowOf[v];  // local (unit) row of the vertex's first dof
     found.clear();
-    for (PetscInt k0 = rp.firstPlace[v]; good && row >= 0 && k0 < rp.firstPlace[v + 1]; ++k0) {
+    for (PetscInt k0 = rp.firstPlace[v]; good && k0 < rp.firstPlace[v + 1]; ++k0) {  // none where row < 0
       const size_t place = static_cast<size_t>(rp.places[k0]), e = place / NV;
       const PetscInt *vertex = &cellVertex[e * NV];
       for (int b = 0; b < NV; ++b) {
