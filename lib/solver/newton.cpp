@@ -191,17 +191,42 @@ PetscErrorCode NewtonSolver::choosePreconditioner(bool dynamic, bool matTypeGive
   PetscFunctionReturn(0);
 }
 
+// A floating body's Hessian is singular: the rigid motions have no energy (no supports, no inertia in a static
+// solve). CG + Jacobi solves such a consistent system (the rigid-motion removal step drops the direction's rigid
+// share), but GAMG, built on those very motions as its near-nullspace, gets a singular coarse problem: on the
+// detached start of a static scramble (box, 10k tets, 2 ranks, -multigrid_min_dofs 0) every one of its CG solves
+// ended DIVERGED_DTOL or INDEFINITE_PC, the stage could not certify convergence and handed the supported solve the
+// scrambled start: 133-138 updates and 13 s against 29 and 2.1 s with Jacobi there. So a floating solver that would
+// inherit GAMG from the main solver (by the rule or a user -pc_type gamg) gets Jacobi; -<prefix>pc_type still
+// chooses (read by SNESSetFromOptions after this).
+PetscErrorCode NewtonSolver::avoidMultigridWhenFloating(PC pc, const char *prefix) {
+  PetscBool gamg, own = PETSC_FALSE;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCGAMG, &gamg));
+  if (prefix) PetscCall(PetscOptionsHasName(nullptr, prefix, "-pc_type", &own));
+  if (!gamg || own) PetscFunctionReturn(0);
+  PetscCall(PCSetType(pc, PCJACOBI));
+  PetscCall(PetscPrintf(PetscObjectComm((PetscObject)pc),
+                        "aries: the %s solve (a body without supports, a singular Hessian) uses CG + Jacobi, not the "
+                        "main solve's GAMG (-%spc_type to choose)\n",
+                        prefix ? prefix : "floating", prefix ? prefix : ""));
+  PetscFunctionReturn(0);
+}
+
 // The matrix type: -dm_mat_type if given, else the discretization's BAIJ (bs = dofs per vertex), except that GAMG (by
 // the rule, or -pc_type gamg for this solver or the base solver it copies) gets AIJ: PETSc 3.18's GAMG cannot coarsen
 // BAIJ, and -pc_type gamg with another -dm_mat_type is a one-line error.
-PetscErrorCode NewtonSolver::chooseMatrixType(DM dm, const NewtonSolver *base, bool dynamic, const char *prefix) {
+PetscErrorCode NewtonSolver::chooseMatrixType(DM dm, const NewtonSolver *base, bool dynamic, const char *prefix,
+                                              bool floating) {
   std::string matType;
   PetscBool set = PETSC_FALSE;
   PetscFunctionBeginUser;
   PetscCall(core::optionString(nullptr, "-dm_mat_type", &matType, &set));
   bool gamgAsked = false;
-  const char *prefixes[] = {nullptr, prefix};  // the unprefixed option, then this solver's own (if it has a prefix)
-  for (int k = 0; k < (prefix ? 2 : 1); ++k) {
+  // the unprefixed option, then this solver's own (if it has a prefix); a floating body's solver only its own: it
+  // does not take GAMG from the main solver (setup)
+  const char *prefixes[] = {nullptr, prefix};
+  for (int k = floating && prefix ? 1 : 0; k < (prefix ? 2 : 1); ++k) {
     std::string pcType;
     PetscBool pcSet = PETSC_FALSE;
     PetscCall(core::optionString(prefixes[k], "-pc_type", &pcType, &pcSet));
@@ -213,7 +238,7 @@ PetscErrorCode NewtonSolver::chooseMatrixType(DM dm, const NewtonSolver *base, b
             "option -pc_type gamg: PETSc 3.18's GAMG cannot coarsen -dm_mat_type %s matrices; give -dm_mat_type aij or "
             "leave -dm_mat_type out (GAMG then gets AIJ)",
             matType.c_str());
-  if (base) multigridByRule_ = base->multigridByRule_, pointBlockByRule_ = base->pointBlockByRule_;
+  if (base) multigridByRule_ = base->multigridByRule_ && !floating, pointBlockByRule_ = base->pointBlockByRule_;
   else PetscCall(choosePreconditioner(dynamic, set, aij, prefix));
   if (set) PetscCall(DMSetMatType(dm, matType.c_str()));
   else if (multigridByRule_ || gamgAsked) PetscCall(DMSetMatType(dm, MATAIJ));
@@ -307,7 +332,7 @@ PetscErrorCode NewtonSolver::setup(fem::Discretization &disc, const NewtonOption
   PetscCall(DMSNESSetJacobianLocal(dm, jacobianLocal, this));
   PetscCall(SNESSetObjective(snes, objectiveCallback, this));
   PetscCall(DMCreateGlobalVector(dm, &ctx_.work));
-  PetscCall(chooseMatrixType(dm, base, dynamic, prefix));
+  PetscCall(chooseMatrixType(dm, base, dynamic, prefix, floating));
   PetscCall(DMSetMatrixPreallocateSkip(dm, PETSC_TRUE));  // the terms preallocate it (Discretization::preallocateHessian)
   PetscCall(DMCreateMatrix(dm, &ctx_.J));
   Mat J = ctx_.J;
@@ -363,6 +388,7 @@ PetscErrorCode NewtonSolver::setup(fem::Discretization &disc, const NewtonOption
   PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHBT));
   PetscCall(SNESSetConvergenceTest(snes, convergenceTest, this, nullptr));
   if (base) PetscCall(copySolverSettings(*base));
+  if (floating) PetscCall(avoidMultigridWhenFloating(pc, prefix));
   if (pointBlockByRule_) PetscCall(PCSetType(pc, PCPBJACOBI));
   if (multigridByRule_) {  // smoothed aggregation as PETSc's snes ex56 sets it up for 3D elasticity
     // Two changes to ex56's set-up, measured on the static cube compression (bench/scale_out.py, 197k DoFs, 2 ranks;

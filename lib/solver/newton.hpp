@@ -100,7 +100,8 @@ class NewtonSolver {
   PetscErrorCode configureMultigrid();
   // The preconditioner rule (-pc_type not given): GAMG for a large static solve, else Jacobi.
   PetscErrorCode choosePreconditioner(bool dynamic, bool matTypeGiven, bool aij, const char *prefix);
-  PetscErrorCode chooseMatrixType(DM dm, const NewtonSolver *base, bool dynamic, const char *prefix);
+  PetscErrorCode chooseMatrixType(DM dm, const NewtonSolver *base, bool dynamic, const char *prefix, bool floating);
+  PetscErrorCode avoidMultigridWhenFloating(PC pc, const char *prefix);
   PetscErrorCode finishUpdate(Vec xNew);  // after an update: its record and every step's finishUpdate
   // The lifted load increment (lifted_increment.cpp).
   PetscErrorCode setLoad(double load);
@@ -123,8 +124,9 @@ class NewtonSolver {
 
   NewtonOptions opts_;
   NewtonContext ctx_;
-  // The preconditioner rule's choices (choosePreconditioner; the detached start's solver inherits them): GAMG for large
-  // static solves, point-block Jacobi for dynamic degenerate starts with fibers.
+  // The preconditioner rule's choices (choosePreconditioner; the detached start's solver inherits them, but GAMG as
+  // Jacobi: avoidMultigridWhenFloating): GAMG for large static solves, point-block Jacobi for dynamic degenerate
+  // starts with fibers.
   bool multigridByRule_ = false;
   bool pointBlockByRule_ = false;
   std::vector<std::unique_ptr<NewtonStep>> steps_;  // in the order they run
