@@ -193,12 +193,12 @@ PetscErrorCode NewtonSolver::choosePreconditioner(bool dynamic, bool matTypeGive
 
 // A floating body's Hessian is singular: the rigid motions have no energy (no supports, no inertia in a static
 // solve). CG + Jacobi solves such a consistent system (the rigid-motion removal step drops the direction's rigid
-// share), but GAMG, built on those very motions as its near-nullspace, gets a singular coarse problem: on the
-// detached start of a static scramble (box, 10k tets, 2 ranks, -multigrid_min_dofs 0) every one of its CG solves
-// ended DIVERGED_DTOL or INDEFINITE_PC, the stage could not certify convergence and handed the supported solve the
-// scrambled start: 133-138 updates and 13 s against 29 and 2.1 s with Jacobi there. So a floating solver that would
-// inherit GAMG from the main solver (by the rule or a user -pc_type gamg) gets Jacobi; -<prefix>pc_type still
-// chooses (read by SNESSetFromOptions after this).
+// share), but GAMG, built on those very motions as its near-nullspace, gets a singular coarse problem: in the
+// detached start of a static scramble every one of its CG solves ended DIVERGED_DTOL or INDEFINITE_PC, the stage
+// could not certify convergence and handed the supported solve the scrambled start (homer and bull, scramble and
+// inside out, nu 0.3 and 0.45: 4 of 8 runs ended away from rest, at 7x the updates; bench/results/
+// degenerate_starts_static_gamg.md). So a floating solver that would inherit GAMG from the main solver (by the rule
+// or a user -pc_type gamg) gets Jacobi; -<prefix>pc_type still chooses (read by SNESSetFromOptions after this).
 PetscErrorCode NewtonSolver::avoidMultigridWhenFloating(PC pc, const char *prefix) {
   PetscBool gamg, own = PETSC_FALSE;
   PetscFunctionBeginUser;
@@ -214,8 +214,9 @@ PetscErrorCode NewtonSolver::avoidMultigridWhenFloating(PC pc, const char *prefi
 }
 
 // The matrix type: -dm_mat_type if given, else the discretization's BAIJ (bs = dofs per vertex), except that GAMG (by
-// the rule, or -pc_type gamg for this solver or the base solver it copies) gets AIJ: PETSc 3.18's GAMG cannot coarsen
-// BAIJ, and -pc_type gamg with another -dm_mat_type is a one-line error.
+// the rule, or -pc_type gamg for this solver or the base solver it copies, but not for a floating solver, which does
+// not inherit GAMG) gets AIJ: PETSc 3.18's GAMG cannot coarsen BAIJ, and -pc_type gamg with another -dm_mat_type is a
+// one-line error.
 PetscErrorCode NewtonSolver::chooseMatrixType(DM dm, const NewtonSolver *base, bool dynamic, const char *prefix,
                                               bool floating) {
   std::string matType;
@@ -223,9 +224,7 @@ PetscErrorCode NewtonSolver::chooseMatrixType(DM dm, const NewtonSolver *base, b
   PetscFunctionBeginUser;
   PetscCall(core::optionString(nullptr, "-dm_mat_type", &matType, &set));
   bool gamgAsked = false;
-  // the unprefixed option, then this solver's own (if it has a prefix); a floating body's solver only its own: it
-  // does not take GAMG from the main solver (setup)
-  const char *prefixes[] = {nullptr, prefix};
+  const char *prefixes[] = {nullptr, prefix};  // the unprefixed option, then this solver's own (if it has a prefix)
   for (int k = floating && prefix ? 1 : 0; k < (prefix ? 2 : 1); ++k) {
     std::string pcType;
     PetscBool pcSet = PETSC_FALSE;
