@@ -219,8 +219,8 @@ def case_multigrid_rule():
     tolerance); -pc_type jacobi, a dynamic run or -multigrid_min_dofs -1 keep CG + Jacobi; -pc_type gamg given by the
     user runs too (aries assembles AIJ for it: PETSc 3.18's GAMG cannot coarsen BAIJ); the static scramble's detached
     relaxation (a body without supports: a singular Hessian, on which every GAMG solve failed and the stage handed the
-    supported solve the scrambled start, 81-85 updates against 21) runs CG + Jacobi, announced, and the scramble takes
-    as many updates as with -pc_type jacobi. GAMG by rule keeps its hierarchy across Newton systems
+    supported solve the scrambled start: 81-85 updates against 21 when this was written) runs CG + Jacobi, announced,
+    and the scramble takes as many updates as with -pc_type jacobi. GAMG by rule keeps its hierarchy across Newton systems
     (-multigrid_reuse_growth, -newton_history column pc_built): some systems reuse one, and with -multigrid_reuse_growth
     0 every system builds its own and the run ends where the reusing one does (1e-6 L)."""
     body = ["-dm_plex_filename", mesh("cube"), "-energy", "iarap", "-E", "1e4", "-nu", "0.3", "-bc_clamp", "bottom,top",
