@@ -55,7 +55,8 @@ PetscErrorCode readNewtonOptions(bool dynamic, const NewtonOptions *base, const 
   int nullspace = o->rigidNearNullspace ? 0 : 1;  // rigid|none
   PetscCall(core::getChoice(opt::nearNullspace, &nullspace, nullptr, at));
   o->rigidNearNullspace = nullspace == 0;
-  // the preconditioner rule is the run's: a phase's solver (the detached start) inherits its choice
+  // the preconditioner rule is the run's: a phase's solver inherits its choice (the detached start's, a floating
+  // body, gets Jacobi for GAMG: NewtonSolver::avoidMultigridWhenFloating)
   if (!base) {
     PetscCall(core::get(opt::multigridMinDofs, &o->multigridMinDofs, nullptr, at));
     PetscCall(core::get(opt::multigridReuseGrowth, &o->multigridReuseGrowth, nullptr, at));
