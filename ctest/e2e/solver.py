@@ -220,9 +220,11 @@ def case_multigrid_rule():
     user runs too (aries assembles AIJ for it: PETSc 3.18's GAMG cannot coarsen BAIJ); the static scramble's detached
     relaxation (a body without supports: a singular Hessian, on which every GAMG solve failed and the stage handed the
     supported solve the scrambled start: 81-85 updates against 21 when this was written) runs CG + Jacobi, announced,
-    and the scramble takes as many updates as with -pc_type jacobi. GAMG by rule keeps its hierarchy across Newton systems
-    (-multigrid_reuse_growth, -newton_history column pc_built): some systems reuse one, and with -multigrid_reuse_growth
-    0 every system builds its own and the run ends where the reusing one does (1e-6 L)."""
+    and the scramble takes as many updates as with -pc_type jacobi. Supports that leave a rigid motion free (rollers
+    only) keep CG + Jacobi, announced: the static Hessian is singular there and GAMG fails. GAMG by rule keeps its
+    hierarchy across Newton systems (-multigrid_reuse_growth, -newton_history column pc_built): some systems reuse
+    one, and with -multigrid_reuse_growth 0 every system builds its own and the run ends where the reusing one does
+    (1e-6 L)."""
     body = ["-dm_plex_filename", mesh("cube"), "-energy", "iarap", "-E", "1e4", "-nu", "0.3", "-bc_clamp", "bottom,top",
             "-bc_clamp_top_translate", "0,0,-0.1", "-strict"]
     cube = body + ["-integrator", "static", "-steps", "2", "-newton_tol", "1e-8"]
@@ -263,6 +265,15 @@ def case_multigrid_rule():
                          "-multigrid_min_dofs", "0"], tag=tag)
     if announced in log:
         fail("a dynamic run chose GAMG")
+    # rollers only (both faces held in z): x, y and the turn about z stay free, the static Hessian is singular along
+    # them; GAMG (-pc_type gamg) fails there with diverged_line_search, so the rule keeps Jacobi and says why
+    tag = "mg_rule_rollers_np%d" % ARGS.ranks
+    log, _ = run(cube + ["-bc_clamp_bottom_components", "z", "-bc_clamp_top_components", "z", "-multigrid_min_dofs",
+                         "0", "-stats", out_base(tag) + ".csv"], tag=tag)
+    if announced in log or "not GAMG: the supports leave 3 rigid motion(s) free" not in log:
+        fail("rollers only: the rule should keep CG + Jacobi and name the 3 free rigid motions")
+    if not all(r["reason"] in CONVERGED for r in stats(out_base(tag) + ".csv")):
+        fail("rollers only: a step did not converge")
     updates = {}
     for label, extra in (("rule", ["-multigrid_min_dofs", "0"]), ("jacobi", ["-pc_type", "jacobi"])):
         tag = "mg_rule_scramble_%s_np%d" % (label, ARGS.ranks)

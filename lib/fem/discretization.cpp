@@ -3,6 +3,8 @@
 
 #include <petscdmplex.h>
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <type_traits>
 #include <cmath>
@@ -258,6 +260,48 @@ void DiscretizationT<R, C, NV>::ownedSupportedVertices(std::vector<PetscInt> *lo
   local->clear();
   for (size_t v = 0; v < verts_.size(); ++v)
     if (verts_[v].owned && verts_[v].bcSet >= 0 && verts_[v].numFree == 0) local->push_back(static_cast<PetscInt>(v));
+}
+
+// The rigid motions' values at the prescribed components span a space of dimension 6 - count: the rank of their
+// Gram matrix (sum over every owned vertex's prescribed components of m_k m_l, the rest positions taken about the
+// prescribed points' centroid in units of the body's diagonal, so that translations and rotations weigh alike).
+template <int R, int C, int NV>
+PetscErrorCode DiscretizationT<R, C, NV>::freeRigidMotions(PetscInt *count) const {
+  constexpr int n = R == 3 ? 6 : 3;  // translations, then rotations (about x, y, z; planar: about z)
+  MPI_Comm comm = PetscObjectComm((PetscObject)mesh_->dm);
+  PetscFunctionBeginUser;
+  double centroid[4] = {0.0, 0.0, 0.0, 0.0};  // count, sum of positions
+  for (const VertexInfo &vi : verts_)
+    for (int i = 0; vi.owned && i < R; ++i)
+      if (vi.fixed(i)) {
+        centroid[0] += 1.0;
+        for (int a = 0; a < 3; ++a) centroid[1 + a] += vi.rest[a];
+      }
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, centroid, 4, MPI_DOUBLE, MPI_SUM, comm));
+  *count = n;
+  if (centroid[0] == 0.0) PetscFunctionReturn(0);
+  const Eigen::Vector3d c = Eigen::Vector3d(centroid[1], centroid[2], centroid[3]) / centroid[0];
+  const double scale = mesh_->diagonal > 0.0 ? 1.0 / mesh_->diagonal : 1.0;
+  Eigen::Matrix<double, n, n> gram = Eigen::Matrix<double, n, n>::Zero();
+  for (const VertexInfo &vi : verts_)
+    for (int i = 0; vi.owned && i < R; ++i) {
+      if (!vi.fixed(i)) continue;
+      const Eigen::Vector3d X = (vi.rest - c) * scale;
+      Eigen::Matrix<double, n, 1> m = Eigen::Matrix<double, n, 1>::Zero();  // each mode's component i at X
+      m[i] = 1.0;
+      if constexpr (R == 3) {
+        for (int a = 0; a < 3; ++a) m[3 + a] = Eigen::Vector3d::Unit(a).cross(X)[i];
+      } else {
+        m[2] = i == 0 ? -X[1] : X[0];
+      }
+      gram += m * m.transpose();
+    }
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, gram.data(), n * n, MPI_DOUBLE, MPI_SUM, comm));
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, n, n>> eigen(gram, Eigen::EigenvaluesOnly);
+  const double largest = eigen.eigenvalues().maxCoeff();
+  *count = 0;
+  for (int k = 0; k < n; ++k) *count += eigen.eigenvalues()[k] <= 1e-10 * largest;
+  PetscFunctionReturn(0);
 }
 
 ARIES_INSTANTIATE_FOR_ELEMENT_TYPES(DiscretizationT)

@@ -87,6 +87,10 @@ class Kinematics {
   virtual PetscErrorCode vertexPositions(Vec xLocal, std::vector<double> *xyz) const = 0;
   // Local indices (v - vStart) of the owned vertices prescribed in every component.
   virtual void ownedSupportedVertices(std::vector<PetscInt> *local) const = 0;
+  // How many independent rigid motions (of 6; planar unknowns: 3) move no prescribed component: the supports' rollers
+  // and symmetry planes leave them free (none held: all). Without inertia they have no energy, so a static Hessian is
+  // singular along them. Collective.
+  virtual PetscErrorCode freeRigidMotions(PetscInt *count) const = 0;
   // The rotational form of a displacement field d at a state x (local vectors, zeros at Dirichlet dofs), in two
   // parts so that several multiples of d share one spin: vertexSpin gives each local vertex's spin w of d (the skew
   // part of grad_x d, averaged over its non-inverted cells; 3 per vertex, collective, zero for planar unknowns);

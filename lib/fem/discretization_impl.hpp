@@ -82,6 +82,7 @@ class DiscretizationT final : public Discretization, public DiagnosticsView, pub
   PetscErrorCode turnBySpin(const std::vector<double> &spin, Vec dLocal, double scale, Vec outLocal) const override;
   PetscErrorCode vertexPositions(Vec xLocal, std::vector<double> *xyz) const override;
   void ownedSupportedVertices(std::vector<PetscInt> *local) const override;
+  PetscErrorCode freeRigidMotions(PetscInt *count) const override;
   PetscErrorCode reactionForce(Vec xLocal, size_t set, Eigen::Vector3d *force) const override;
   PetscErrorCode cellStressMeasures(Vec xLocal, std::vector<kernels::StressMeasures> *out) const override;
   void cellRegions(std::vector<double> *regions) const override;

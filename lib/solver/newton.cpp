@@ -178,6 +178,15 @@ PetscErrorCode NewtonSolver::choosePreconditioner(bool dynamic, bool matTypeGive
   PetscCall(VecGetSize(ctx_.work, &freeDofs));
   const PetscInt minDofs = opts_.multigridMinDofs;
   multigridByRule_ = !pcSet && !(matTypeGiven && !aij) && !dynamic && minDofs >= 0 && freeDofs >= minDofs;
+  PetscInt freeRigid = 0;  // GAMG's coarse problem is singular where the supports leave a rigid motion free
+  if (multigridByRule_) PetscCall(ctx_.disc->kinematics().freeRigidMotions(&freeRigid));
+  if (freeRigid > 0) {
+    multigridByRule_ = false;
+    PetscCall(PetscPrintf(PetscObjectComm((PetscObject)ctx_.work),
+                          "aries: linear solver CG + Jacobi, not GAMG: the supports leave %d rigid motion(s) free, "
+                          "along which the static Hessian is singular (-pc_type gamg to force it)\n",
+                          (int)freeRigid));
+  }
   pointBlockByRule_ = !pcSet && !matTypeGiven && dynamic && opts_.fiberDegenerateStart;
   if (pointBlockByRule_)
     PetscCall(PetscPrintf(PetscObjectComm((PetscObject)ctx_.work),
