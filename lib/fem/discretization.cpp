@@ -287,13 +287,8 @@ PetscErrorCode DiscretizationT<R, C, NV>::freeRigidMotions(PetscInt *count) cons
     for (int i = 0; vi.owned && i < R; ++i) {
       if (!vi.fixed(i)) continue;
       const Eigen::Vector3d X = (vi.rest - c) * scale;
-      Eigen::Matrix<double, n, 1> m = Eigen::Matrix<double, n, 1>::Zero();  // each mode's component i at X
-      m[i] = 1.0;
-      if constexpr (R == 3) {
-        for (int a = 0; a < 3; ++a) m[3 + a] = Eigen::Vector3d::Unit(a).cross(X)[i];
-      } else {
-        m[2] = i == 0 ? -X[1] : X[0];
-      }
+      Eigen::Matrix<double, n, 1> m;  // each mode's component i at X
+      for (int k = 0; k < n; ++k) m[k] = rigidMotion(k, R, X)[i];
       gram += m * m.transpose();
     }
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, gram.data(), n * n, MPI_DOUBLE, MPI_SUM, comm));

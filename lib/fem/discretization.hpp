@@ -75,6 +75,13 @@ class DiagnosticsView {
 
 // What the solver needs beyond the assembled model: vertex positions and the free and supported vertices (initial
 // states, the detached start's rigid fit) and the rotational form of a displacement (the rotational update).
+// Rigid motion k at rest position X (dofsPerVertex 3: translations e_0..e_2, then rotations e_a x X; planar, 2: the
+// two translations, then the rotation about z): the near-nullspace's modes and the supports' free motions.
+inline Eigen::Vector3d rigidMotion(int k, int dofsPerVertex, const Eigen::Vector3d &X) {
+  if (k < dofsPerVertex) return Eigen::Vector3d::Unit(k);
+  return (dofsPerVertex == 3 ? Eigen::Vector3d::Unit(k - 3) : Eigen::Vector3d::UnitZ()).cross(X);
+}
+
 class Kinematics {
  public:
   virtual ~Kinematics() = default;

@@ -114,9 +114,7 @@ PetscErrorCode rigidBodyModesOfFreeDofs(const fem::Kinematics &kin, PetscInt dof
     PetscCall(VecSet(v[k], 0.0));
     PetscCall(VecGetArray(v[k], &a));
     kin.forEachOwnedFreeVertex([&](PetscInt, PetscInt, const PetscInt *rows, const Eigen::Vector3d &X) {
-      Eigen::Vector3d m = Eigen::Vector3d::Zero();  // translations e_k, then rotations e_a x X (2D: about z)
-      if (k < R) m[k] = 1.0;
-      else m = (R == 3 ? Eigen::Vector3d::Unit(k - 3) : Eigen::Vector3d::UnitZ()).cross(X);
+      const Eigen::Vector3d m = fem::rigidMotion(k, R, X);
       for (int i = 0; i < R; ++i)
         if (rows[i] >= 0) a[rows[i] - lo] = m[i];
     });

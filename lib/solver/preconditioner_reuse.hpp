@@ -32,7 +32,7 @@ class PreconditionerReuse {
   // Would the next Newton system build its preconditioner?
   bool rebuildNext() const {
     return !enabled() || reference_ < 0 || lastFailed_ || systems_ >= kMaxSystems ||
-           static_cast<double>(last_) > growth_ * static_cast<double>(std::max(reference_, kMinReference));
+           static_cast<double>(last_) > allowedIterations();
   }
   // A Newton system is about to be solved: true where it builds its preconditioner (force: whatever the rule says).
   bool beginSystem(bool force = false) {
@@ -52,12 +52,16 @@ class PreconditionerReuse {
   // off, the system built its own, or no Newton system is being solved).
   long iterationLimit() const {
     if (!enabled() || building_ || !inSystem_) return -1;
-    return static_cast<long>(growth_ * static_cast<double>(std::max(reference_, kMinReference)));
+    return static_cast<long>(allowedIterations());
   }
   // Did the system in progress (or the last one) build its preconditioner?
   bool built() const { return building_; }
 
  private:
+  // A solve with the kept hierarchy may take this many Krylov iterations: growth x its first solve's (10 at least).
+  double allowedIterations() const {
+    return growth_ * static_cast<double>(std::max(reference_, kMinReference));
+  }
   double growth_ = 0.0;
   long reference_ = -1;  // the Krylov iterations of the kept hierarchy's first solve (-1: none kept)
   long last_ = 0;        // the last solve's

@@ -36,38 +36,28 @@ TEST(PreconditionerReuse, KeepsWhileSolvesStayFast) {
   EXPECT_FALSE(rule.rebuildNext());
 }
 
-TEST(PreconditionerReuse, SlowSolveBuildsAgain) {
+// The rule (growth 1.5) after a hierarchy's first solve took `first` iterations and the second system, which keeps
+// it, took `second`.
+namespace {
+PreconditionerReuse afterTwoSolves(long first, long second) {
   PreconditionerReuse rule;
   rule.enable(1.5);
   rule.beginSystem();
-  rule.endSystem(23, true);
+  rule.endSystem(first, true);
   EXPECT_FALSE(rule.beginSystem());
-  rule.endSystem(34, true);  // below 1.5 x 23 = 34.5: still kept
-  EXPECT_FALSE(rule.rebuildNext());
-  PreconditionerReuse slow;
-  slow.enable(1.5);
-  slow.beginSystem();
-  slow.endSystem(23, true);
-  slow.beginSystem();
-  slow.endSystem(35, true);  // above 1.5 x 23: the next system builds
-  EXPECT_TRUE(slow.rebuildNext());
+  rule.endSystem(second, true);
+  return rule;
+}
+}  // namespace
+
+TEST(PreconditionerReuse, SlowSolveBuildsAgain) {
+  EXPECT_FALSE(afterTwoSolves(23, 34).rebuildNext());  // below 1.5 x 23 = 34.5: still kept
+  EXPECT_TRUE(afterTwoSolves(23, 35).rebuildNext());   // above 1.5 x 23: the next system builds
 }
 
 TEST(PreconditionerReuse, FewIterationsAreJudgedAgainstTen) {
-  PreconditionerReuse rule;
-  rule.enable(1.5);
-  rule.beginSystem();
-  rule.endSystem(3, true);
-  rule.beginSystem();
-  rule.endSystem(15, true);  // 5x the first solve, but within 1.5 x 10
-  EXPECT_FALSE(rule.rebuildNext());
-  PreconditionerReuse slow;
-  slow.enable(1.5);
-  slow.beginSystem();
-  slow.endSystem(3, true);
-  slow.beginSystem();
-  slow.endSystem(16, true);
-  EXPECT_TRUE(slow.rebuildNext());
+  EXPECT_FALSE(afterTwoSolves(3, 15).rebuildNext());  // 5x the first solve, but within 1.5 x 10
+  EXPECT_TRUE(afterTwoSolves(3, 16).rebuildNext());
 }
 
 TEST(PreconditionerReuse, FailuresBuildAgain) {
