@@ -155,6 +155,33 @@ PetscErrorCode NewtonSolver::configureMultigrid() {
   PetscFunctionReturn(0);
 }
 
+// Supports that leave a rigid motion free (rollers or symmetry planes only, e.g. a block between two faces held in z
+// alone: x, y and the turn about z are free) make the static Hessian singular along that motion. CG solves the
+// consistent system, but GAMG's near-nullspace holds the motion exactly, so its coarse operator is singular too and
+// the default coarse LU returns garbage along it: the test cube between two such faces ended step 1 with
+// diverged_line_search on 1 and 2 ranks (29 updates, the residual at 7e-11 but the Newton step never small). The
+// coarse solve by the pseudo-inverse (PCSVD of the coarsest grid, which is small) drops that component: 2 and 3 updates
+// per step, as Jacobi takes. Static GAMG solves only (inertia makes the Hessian definite); a user
+// -mg_coarse_pc_type chooses. Collective.
+PetscErrorCode NewtonSolver::solveCoarseSingularSystem(const char *prefix) {
+  PetscInt freeRigid = 0;
+  PetscBool userCoarse = PETSC_FALSE;
+  PetscFunctionBeginUser;
+  PetscCall(ctx_.disc->kinematics().freeRigidMotions(&freeRigid));
+  if (freeRigid == 0) PetscFunctionReturn(0);
+  const std::string coarse = std::string("-") + (prefix ? prefix : "") + "mg_coarse_pc_type";
+  PetscCall(PetscOptionsHasName(nullptr, nullptr, coarse.c_str(), &userCoarse));
+  if (userCoarse) PetscFunctionReturn(0);
+  PetscCall(PetscOptionsSetValue(nullptr, coarse.c_str(), PCSVD));
+  char read[16];  // read back at once: ours, never reported as unused (GAMG reads it at its first setup)
+  PetscCall(PetscOptionsGetString(nullptr, nullptr, coarse.c_str(), read, sizeof(read), nullptr));
+  PetscCall(PetscPrintf(PetscObjectComm((PetscObject)ctx_.work),
+                        "aries: GAMG's coarse solve is the pseudo-inverse (%s svd): the supports leave %d rigid "
+                        "motion(s) free, along which the static Hessian is singular\n",
+                        coarse.c_str(), (int)freeRigid));
+  PetscFunctionReturn(0);
+}
+
 // The preconditioner when -pc_type is not given (docs/options.md, "The preconditioner rule"; measured by
 // bench/scale_out.py): on a static system CG + Jacobi's iterations grow with 1/h and GAMG's do not, but a GAMG
 // iteration costs about eight Jacobi ones (its share of the rebuilds included) and the AIJ assembly is slower: level
@@ -167,24 +194,18 @@ PetscErrorCode NewtonSolver::configureMultigrid() {
 // gets point-block Jacobi (each vertex's 3 x 3 diagonal block inverted), without a user -dm_mat_type: there the
 // volume term's lambda cof F (x) cof F and the fibers' a (x) a couple a vertex's components far beyond the mass term
 // in the stretched cells; Jacobi's CG ended at -ksp_max_it in 48 solves of 27 fiber scrambles, point-block Jacobi's in
-// 3, at 0.65-0.97x the time (bench/results/degenerate_starts_pbjacobi.md; ortho lost there, 0.95-1.57x).
+// 3, at 0.65-0.97x the time (bench/results/degenerate_starts_pbjacobi.md; ortho lost there, 0.95-1.57x). A static
+// GAMG solve (by the rule or a user -pc_type gamg) whose supports leave a rigid motion free gets the pseudo-inverse as
+// its coarse solve (solveCoarseSingularSystem).
 PetscErrorCode NewtonSolver::choosePreconditioner(bool dynamic, bool matTypeGiven, bool aij, const char *prefix) {
-  PetscBool pcSet;
+  std::string pcType;
+  PetscBool pcSet = PETSC_FALSE;
   PetscInt freeDofs;
   PetscFunctionBeginUser;
-  PetscCall(PetscOptionsHasName(nullptr, prefix, "-pc_type", &pcSet));
+  PetscCall(core::optionString(prefix, "-pc_type", &pcType, &pcSet));
   PetscCall(VecGetSize(ctx_.work, &freeDofs));
   const PetscInt minDofs = opts_.multigridMinDofs;
   multigridByRule_ = !pcSet && !(matTypeGiven && !aij) && !dynamic && minDofs >= 0 && freeDofs >= minDofs;
-  PetscInt freeRigid = 0;  // GAMG's coarse problem is singular where the supports leave a rigid motion free
-  if (multigridByRule_) PetscCall(ctx_.disc->kinematics().freeRigidMotions(&freeRigid));
-  if (freeRigid > 0) {
-    multigridByRule_ = false;
-    PetscCall(PetscPrintf(PetscObjectComm((PetscObject)ctx_.work),
-                          "aries: linear solver CG + Jacobi, not GAMG: the supports leave %d rigid motion(s) free, "
-                          "along which the static Hessian is singular (-pc_type gamg to force it)\n",
-                          (int)freeRigid));
-  }
   pointBlockByRule_ = !pcSet && !matTypeGiven && dynamic && opts_.fiberDegenerateStart;
   if (pointBlockByRule_)
     PetscCall(PetscPrintf(PetscObjectComm((PetscObject)ctx_.work),
@@ -195,6 +216,7 @@ PetscErrorCode NewtonSolver::choosePreconditioner(bool dynamic, bool matTypeGive
                           "aries: linear solver CG + GAMG (a static solve of %d free DoFs, -multigrid_min_dofs %d; "
                           "-pc_type jacobi for the paper's CG + Jacobi)\n",
                           (int)freeDofs, (int)minDofs));
+  if (multigridByRule_ || (!dynamic && pcSet && pcType == PCGAMG)) PetscCall(solveCoarseSingularSystem(prefix));
   PetscFunctionReturn(0);
 }
 

@@ -100,6 +100,7 @@ class NewtonSolver {
   PetscErrorCode configureMultigrid();
   // The preconditioner rule (-pc_type not given): GAMG for a large static solve, else Jacobi.
   PetscErrorCode choosePreconditioner(bool dynamic, bool matTypeGiven, bool aij, const char *prefix);
+  PetscErrorCode solveCoarseSingularSystem(const char *prefix);
   PetscErrorCode chooseMatrixType(DM dm, const NewtonSolver *base, bool dynamic, const char *prefix, bool floating);
   PetscErrorCode avoidMultigridWhenFloating(PC pc, const char *prefix);
   PetscErrorCode finishUpdate(Vec xNew);  // after an update: its record and every step's finishUpdate
