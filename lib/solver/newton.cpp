@@ -134,6 +134,21 @@ PetscErrorCode rigidBodyModesOfFreeDofs(const fem::Kinematics &kin, PetscInt dof
   PetscFunctionReturn(0);
 }
 
+// An option of this solver's GAMG that aries chooses unless the user gave it (-<prefix>name): set, and read back at
+// once so that it is never reported as unused (GAMG reads it only at its first setup). *chosen: aries set it.
+static PetscErrorCode chooseMultigridOption(const char *prefix, const char *name, const char *value, bool *chosen) {
+  const std::string option = std::string("-") + (prefix ? prefix : "") + name;
+  PetscBool given = PETSC_FALSE;
+  char read[64];
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsHasName(nullptr, nullptr, option.c_str(), &given));
+  *chosen = !given;
+  if (given) PetscFunctionReturn(0);
+  PetscCall(PetscOptionsSetValue(nullptr, option.c_str(), value));
+  PetscCall(PetscOptionsGetString(nullptr, nullptr, option.c_str(), read, sizeof(read), nullptr));
+  PetscFunctionReturn(0);
+}
+
 // GAMG keeps its prolongators across Newton iterations (-pc_gamg_reuse_interpolation) and by default also the
 // Chebyshev smoothers' eigenvalue bounds estimated with them at the first setup. Newton's Hessians change spectrum
 // from one iteration to the next (an inside-out start stiffens by orders of magnitude in the mollifier's blend
@@ -165,20 +180,16 @@ PetscErrorCode NewtonSolver::configureMultigrid() {
 // -mg_coarse_pc_type chooses. Collective.
 PetscErrorCode NewtonSolver::solveCoarseSingularSystem(const char *prefix) {
   PetscInt freeRigid = 0;
-  PetscBool userCoarse = PETSC_FALSE;
+  bool chosen = false;
   PetscFunctionBeginUser;
   PetscCall(ctx_.disc->kinematics().freeRigidMotions(&freeRigid));
   if (freeRigid == 0) PetscFunctionReturn(0);
-  const std::string coarse = std::string("-") + (prefix ? prefix : "") + "mg_coarse_pc_type";
-  PetscCall(PetscOptionsHasName(nullptr, nullptr, coarse.c_str(), &userCoarse));
-  if (userCoarse) PetscFunctionReturn(0);
-  PetscCall(PetscOptionsSetValue(nullptr, coarse.c_str(), PCSVD));
-  char read[16];  // read back at once: ours, never reported as unused (GAMG reads it at its first setup)
-  PetscCall(PetscOptionsGetString(nullptr, nullptr, coarse.c_str(), read, sizeof(read), nullptr));
+  PetscCall(chooseMultigridOption(prefix, "mg_coarse_pc_type", PCSVD, &chosen));
+  if (!chosen) PetscFunctionReturn(0);
   PetscCall(PetscPrintf(PetscObjectComm((PetscObject)ctx_.work),
-                        "aries: GAMG's coarse solve is the pseudo-inverse (%s svd): the supports leave %d rigid "
-                        "motion(s) free, along which the static Hessian is singular\n",
-                        coarse.c_str(), (int)freeRigid));
+                        "aries: GAMG's coarse solve is the pseudo-inverse (-%smg_coarse_pc_type svd): the supports "
+                        "leave %d rigid motion(s) free, along which the static Hessian is singular\n",
+                        prefix ? prefix : "", (int)freeRigid));
   PetscFunctionReturn(0);
 }
 
@@ -428,14 +439,8 @@ PetscErrorCode NewtonSolver::setup(fem::Discretization &disc, const NewtonOption
     PetscCall(PCGAMGSetNSmooths(pc, 1));
     PetscCall(PCGAMGSetThreshold(pc, threshold, 1));
     PetscCall(PCGAMGSetReuseInterpolation(pc, PETSC_TRUE));
-    const std::string smooths = std::string("-") + (prefix ? prefix : "") + "mg_levels_ksp_max_it";
-    PetscBool userSmooths = PETSC_FALSE;
-    PetscCall(PetscOptionsHasName(nullptr, nullptr, smooths.c_str(), &userSmooths));
-    if (!userSmooths) {  // read back at once: ours, never reported as unused (GAMG reads it at its first setup)
-      PetscInt one = 1;
-      PetscCall(PetscOptionsSetValue(nullptr, smooths.c_str(), "1"));
-      PetscCall(PetscOptionsGetInt(nullptr, nullptr, smooths.c_str(), &one, nullptr));
-    }
+    bool chosen = false;
+    PetscCall(chooseMultigridOption(prefix, "mg_levels_ksp_max_it", "1", &chosen));
     // the hierarchy kept across Newton systems while its solves stay fast (preconditioner_reuse.hpp): a kept
     // preconditioner is still a fixed SPD one, CG stays valid. A user -snes_lag_preconditioner is PETSc's rule instead.
     PetscBool userLag = PETSC_FALSE;
