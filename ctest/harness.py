@@ -36,10 +36,12 @@ def _session_base():
 
 def mpi_env():
     """Open MPI as root, oversubscribed on small CI machines, without busy-waiting ranks, with session files of its
-    own; a one-rank run (no mpiexec) is an isolated singleton, which spawns no daemon."""
+    own; a one-rank run (no mpiexec) is an isolated singleton, which spawns no daemon; the one-machine transport
+    named (ob1 over shared memory), so that MPI_Init does not probe the network layers first (CMakeLists.txt)."""
     return dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
                 OMPI_MCA_rmaps_base_oversubscribe="1", OMPI_MCA_mpi_yield_when_idle="1",
-                OMPI_MCA_ess_singleton_isolated="1", OMPI_MCA_orte_tmpdir_base=_session_base())
+                OMPI_MCA_ess_singleton_isolated="1", OMPI_MCA_pml="ob1", OMPI_MCA_btl="self,vader",
+                OMPI_MCA_orte_tmpdir_base=_session_base())
 
 
 def aries_cmd(aries, ranks, args):

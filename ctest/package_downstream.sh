@@ -15,7 +15,11 @@ done
 if grep -rl "petsc" "$WORK/prefix/include/aries" >/dev/null; then
   echo "FAIL: an installed header mentions PETSc: $(grep -rl petsc "$WORK/prefix/include/aries" | head -3)"; exit 1
 fi
+# The downstream project is compiled by the compiler aries was built with (its static library's toolchain): the
+# system's default c++ (GCC) took 67 s for this one file against clang's 23 s on the 2-core box.
+CXX_OF_BUILD="$(sed -n 's/^CMAKE_CXX_COMPILER:[A-Z]*=//p' "$BUILD/CMakeCache.txt")"
 cmake -S "$SRC/examples/downstream" -B "$WORK/downstream" -DCMAKE_PREFIX_PATH="$WORK/prefix" \
+      ${CXX_OF_BUILD:+-DCMAKE_CXX_COMPILER="$CXX_OF_BUILD"} \
       -DCMAKE_BUILD_TYPE=Release >"$WORK/configure.log" 2>&1 || { cat "$WORK/configure.log"; exit 1; }
 if grep -q -- "$SRC/lib" "$WORK/downstream/CMakeFiles/fiber_point.dir/flags.make"; then
   echo "FAIL: the downstream build sees the source tree's lib/"; exit 1

@@ -338,6 +338,17 @@ struct FdReport {
   Derivs<N> analytic;
 };
 
+// The function a derivative check differentiates: fn(F, order) -> Derivs<R*C>. Type-erased, so that the checker is
+// compiled once per shape (R, C) and translation unit, not once per test's lambda (inlined and optimized around each
+// kernel call, test_invariants.cpp alone took 115 s to compile, 78 s with this). NonDeduced: R and C come from the
+// call's explicit template arguments, never from the lambda.
+template <int R, int C>
+using DerivativeFn = std::function<Derivs<R * C>(const Mat<R, C> &, Order)>;
+template <class T>
+struct NonDeduced {
+  using type = T;
+};
+
 // fn(F, order) -> Derivs<R*C>. PK1 is checked against central differences of fn(., Order::Value).value, the Hessian
 // against central differences of fn(., Order::Gradient).grad (so the reduced-order code paths are exercised too).
 // For every step h in kFdSteps two central differences are formed, the classic 2-point one
@@ -347,8 +358,8 @@ struct FdReport {
 // The 4-point stencil matters near alpha = 0: there the closed-form PK1 carries round-off noise of ~10 eps / alpha_n^3
 // relative (the chain of Eq. 19 sums terms ~1/alpha^3 that cancel), which swamps the 2-point difference at the small
 // h its h^2 truncation error needs; a derivative that is wrong by more than ~1e-6 fails either way.
-template <int R, int C, class Fn>
-inline FdReport<R * C> finiteDifferences(Fn &&fn, const Mat<R, C> &F) {
+template <int R, int C>
+FdReport<R * C> finiteDifferences(const typename NonDeduced<DerivativeFn<R, C>>::type &fn, const Mat<R, C> &F) {
   constexpr int N = R * C;
   FdReport<N> rep;
   rep.analytic = fn(F, Order::Hessian);
@@ -396,9 +407,9 @@ struct FdExpect {
 // Runs finiteDifferences and asserts: finite value, PK1 and Hessian each within `tol` of FD, Hessian symmetric,
 // reduced-order evaluations consistent, and (unless allowed) a nonzero analytic PK1 / Hessian so the comparison
 // is not vacuous. `ledgerKey` collects the worst errors per family.
-template <int R, int C, class Fn>
-inline FdReport<R * C> expectDerivatives(Fn &&fn, const Mat<R, C> &F, const std::string &what,
-                                         const std::string &ledgerKey, FdExpect ex = {}) {
+template <int R, int C>
+FdReport<R * C> expectDerivatives(const typename NonDeduced<DerivativeFn<R, C>>::type &fn, const Mat<R, C> &F,
+                                  const std::string &what, const std::string &ledgerKey, FdExpect ex = {}) {
   const FdReport<R * C> rep = finiteDifferences<R, C>(fn, F);
   const std::string ctx = what + "\n  " + describe<R, C>(F);
   EXPECT_TRUE(std::isfinite(rep.analytic.value)) << ctx;
