@@ -2,7 +2,7 @@
 # Installs exactly the Debian 12 packages aries uses. Idempotent: apt-get runs only when something is missing.
 set -euo pipefail
 packages=(
-  build-essential cmake pkg-config            # toolchain
+  build-essential cmake pkg-config ninja-build  # toolchain (Ninja: scripts/test.sh)
   clang libclang-rt-14-dev                    # the compiler CMakeLists.txt prefers (docs/build.md), its sanitizers
   petsc-dev libopenmpi-dev openmpi-bin        # PETSc 3.18 (DMPlex, SNES, HDF5 viewer) + Open MPI
   libhdf5-openmpi-dev libmetis-dev libeigen3-dev
