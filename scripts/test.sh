@@ -11,8 +11,8 @@ BUILD="${BUILD_DIR:-$ROOT/build}"
 # waits target by target), 544 s against 612 s for the whole build on 2 cores. A folder keeps its generator.
 GENERATOR=()
 if [ ! -f "$BUILD/CMakeCache.txt" ] && command -v ninja >/dev/null; then GENERATOR=(-G Ninja); fi
-cmake -S "$ROOT" -B "$BUILD" "${GENERATOR[@]}" -DCMAKE_BUILD_TYPE=Release -DARIES_REQUIRE_PYTHON=ON ${ARIES_CMAKE_ARGS:-} \
-  >/dev/null
+cmake -S "$ROOT" -B "$BUILD" "${GENERATOR[@]}" -DCMAKE_BUILD_TYPE=Release -DARIES_REQUIRE_PYTHON=ON \
+  ${ARIES_CMAKE_ARGS:-} >/dev/null
 cmake --build "$BUILD" -j"$(nproc)"
 if [ "$(id -u)" -eq 0 ]; then export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1; fi
 export OMPI_MCA_rmaps_base_oversubscribe=1 OMPI_MCA_mpi_yield_when_idle=1
