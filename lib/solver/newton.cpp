@@ -135,14 +135,15 @@ PetscErrorCode rigidBodyModesOfFreeDofs(const fem::Kinematics &kin, PetscInt dof
 }
 
 // An option of this solver's GAMG that aries chooses unless the user gave it (-<prefix>name): set, and read back at
-// once so that it is never reported as unused (GAMG reads it only at its first setup). *chosen: aries set it.
+// once so that it is never reported as unused (GAMG reads it only at its first setup). *chosen (optional): aries set
+// it.
 static PetscErrorCode chooseMultigridOption(const char *prefix, const char *name, const char *value, bool *chosen) {
   const std::string option = std::string("-") + (prefix ? prefix : "") + name;
   PetscBool given = PETSC_FALSE;
   char read[64];
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsHasName(nullptr, nullptr, option.c_str(), &given));
-  *chosen = !given;
+  if (chosen) *chosen = !given;
   if (given) PetscFunctionReturn(0);
   PetscCall(PetscOptionsSetValue(nullptr, option.c_str(), value));
   PetscCall(PetscOptionsGetString(nullptr, nullptr, option.c_str(), read, sizeof(read), nullptr));
@@ -439,8 +440,7 @@ PetscErrorCode NewtonSolver::setup(fem::Discretization &disc, const NewtonOption
     PetscCall(PCGAMGSetNSmooths(pc, 1));
     PetscCall(PCGAMGSetThreshold(pc, threshold, 1));
     PetscCall(PCGAMGSetReuseInterpolation(pc, PETSC_TRUE));
-    bool chosen = false;
-    PetscCall(chooseMultigridOption(prefix, "mg_levels_ksp_max_it", "1", &chosen));
+    PetscCall(chooseMultigridOption(prefix, "mg_levels_ksp_max_it", "1", nullptr));
     // the hierarchy kept across Newton systems while its solves stay fast (preconditioner_reuse.hpp): a kept
     // preconditioner is still a fixed SPD one, CG stays valid. A user -snes_lag_preconditioner is PETSc's rule instead.
     PetscBool userLag = PETSC_FALSE;
