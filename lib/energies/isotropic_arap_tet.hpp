@@ -16,7 +16,8 @@ namespace aries::energies {
 // With `filter`, the Hessian is the eigenvalue-filtered one, built from the closed-form eigensystem of this
 // Psi(I1, I2, I3) (isotropic_eigensystem.hpp: Psi_1 = -b, Psi_2 = a, Psi_3 = lambda (J - J0), Psi_33 = lambda) instead
 // of the chain rule followed by a 9x9 eigensolve.
-inline kernels::Derivs<9> isotropicArapTet(const Mat<3, 3> &F, const kernels::RootDerivatives<3> &rd, double a,
+template <int Rows, int Cols, kernels::IfShape<Rows, Cols, 3, 3> = 0>
+inline kernels::Derivs<9> isotropicArapTet(const Mat<Rows, Cols> &F, const kernels::RootDerivatives<3> &rd, double a,
                                            double b, double c, double lambda, double J0, kernels::Order order,
                                            const kernels::EigenFilter *filter = nullptr) {
   using kernels::Order;

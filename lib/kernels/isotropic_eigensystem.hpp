@@ -72,7 +72,8 @@ inline void symmetricEigen3(const Mat<3, 3> &A, Vec<3> &lam, Mat<3, 3> &V) {
 // Eigen's direct solver (trigonometric eigenvalues, eigenvectors from cross products: ~140 ns against ~330 ns for the
 // Jacobi sweeps) where the eigenvalues are well separated, so its eigenvectors are accurate (error ~ eps / relative
 // gap <= 1e-12 here); the Jacobi sweeps above where two eigenvalues are within 1e-4 of each other (relative).
-inline void symmetricEigen3Fast(const Mat<3, 3> &A, Vec<3> &lam, Mat<3, 3> &V) {
+template <int Rows, int Cols, IfShape<Rows, Cols, 3, 3> = 0>
+inline void symmetricEigen3Fast(const Mat<Rows, Cols> &A, Vec<3> &lam, Mat<3, 3> &V) {
   const Mat<3, 3> As = 0.5 * (A + A.transpose());
   Eigen::SelfAdjointEigenSolver<Mat<3, 3>> direct;
   direct.computeDirect(As);
@@ -140,9 +141,10 @@ struct IsotropicModes {
   Mat<9, 3> D;
 };
 
-inline IsotropicModes isotropicModes(const Mat<3, 3> &F, const Mat<3, 3> &R) {
+template <int Rows, int Cols, IfShape<Rows, Cols, 3, 3> = 0>
+inline IsotropicModes isotropicModes(const Mat<Rows, Cols> &F, const Mat<3, 3> &R) {
   IsotropicModes m;
-  symmetricEigen3Fast(R.transpose() * F, m.s, m.V);
+  symmetricEigen3Fast(Mat<3, 3>(R.transpose() * F), m.s, m.V);
   const Mat<3, 3> U = R * m.V;
   constexpr double invSqrt2 = 0.70710678118654752440;
   for (int k = 0; k < 3; ++k) {
@@ -156,7 +158,8 @@ inline IsotropicModes isotropicModes(const Mat<3, 3> &F, const Mat<3, 3> &R) {
 }
 
 // The full eigensystem at F = R S (R the analytic rotation of F).
-inline IsotropicEigensystem isotropicEigensystem(const Mat<3, 3> &F, const Mat<3, 3> &R,
+template <int Rows, int Cols, IfShape<Rows, Cols, 3, 3> = 0>
+inline IsotropicEigensystem isotropicEigensystem(const Mat<Rows, Cols> &F, const Mat<3, 3> &R,
                                                  const IsotropicPsiDerivatives &psi) {
   const IsotropicModes m = isotropicModes(F, R);
   Vec<3> scaleLam;
@@ -174,8 +177,9 @@ inline IsotropicEigensystem isotropicEigensystem(const Mat<3, 3> &F, const Mat<3
 // and cancel), the eigensystem only like eps / alpha (measured at alpha_n = 2.3e-3: 1e-9 against 4e-13 relative to a
 // reference built from the exact SVD). Where the scaling block A is positive definite (or nothing is filtered) its
 // three modes enter as D A D^T, without its eigendecomposition.
-inline Mat<9, 9> filteredIsotropicHessian(const Mat<3, 3> &F, const Mat<3, 3> &R, const IsotropicPsiDerivatives &psi,
-                                          EigenFilter filter) {
+template <int Rows, int Cols, IfShape<Rows, Cols, 3, 3> = 0>
+inline Mat<9, 9> filteredIsotropicHessian(const Mat<Rows, Cols> &F, const Mat<3, 3> &R,
+                                          const IsotropicPsiDerivatives &psi, EigenFilter filter) {
   const IsotropicModes m = isotropicModes(F, R);
   const Vec<6> phi = filterSpectrum<6>(twistFlipEigenvalues(m.s, psi), filter);
   Mat<3, 3> A = scalingBlock(m.s, psi);

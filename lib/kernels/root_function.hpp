@@ -82,7 +82,8 @@ inline Mat<3, 3> quaternionToRotation(const Eigen::Vector4d &q) {
   return R;
 }
 
-inline RootValue rootValue(const Mat<3, 3> &F) {
+template <int R, int C, IfShape<R, C, 3, 3> = 0>
+inline RootValue rootValue(const Mat<R, C> &F) {
   RootValue r;
   const double scale = F.norm();
   if (!(scale > 0.0) || !std::isfinite(scale)) {
@@ -140,7 +141,8 @@ inline RootValue rootValue(const Mat<3, 3> &F) {
 inline double alphaLowerBound(const Mat<3, 3> &F) { return 64.0 * F.determinant(); }
 
 // 2x2: f = sqrt(I_C + 2J) = |(F00 + F11, F10 - F01)|, a sum of squares without cancellation; alpha = f (Eq. 29).
-inline RootValue rootValue(const Mat<2, 2> &F) {
+template <int R, int C, IfShape<R, C, 2, 2> = 0>
+inline RootValue rootValue(const Mat<R, C> &F) {
   RootValue r;
   r.f = std::hypot(F(0, 0) + F(1, 1), F(1, 0) - F(0, 1));
   r.alpha = r.f;
@@ -148,7 +150,8 @@ inline RootValue rootValue(const Mat<2, 2> &F) {
 }
 
 // 3x2: f = sqrt(I_C + 2 sqrt(III_C)) with sqrt(III_C) = |f0 x f1| = s1 s2; alpha = f sqrt(III_C) (Eq. 30).
-inline RootValue rootValue(const Mat<3, 2> &F) {
+template <int R, int C, IfShape<R, C, 3, 2> = 0>
+inline RootValue rootValue(const Mat<R, C> &F) {
   RootValue r;
   const Eigen::Vector3d c0 = F.col(0), c1 = F.col(1);
   const double area = c0.cross(c1).norm();
@@ -168,7 +171,8 @@ struct RootDerivatives {
 
 // 3x3, index order (1, 2, J) = (I_C, II_C, J). First order from Lin et al. 2022, second by implicit differentiation
 // of p(f(y), y) = 0, third order literally Table 3. `upTo` limits the work (1, 2 or 3).
-inline RootDerivatives<3> rootDerivatives(const Mat<3, 3> &F, int upTo) {
+template <int R, int C, IfShape<R, C, 3, 3> = 0>
+inline RootDerivatives<3> rootDerivatives(const Mat<R, C> &F, int upTo) {
   RootDerivatives<3> out;
   out.root = rootValue(F);
   const double f = out.root.f, a = out.root.alpha, IC = F.squaredNorm();
@@ -212,7 +216,8 @@ inline RootDerivatives<3> rootDerivatives(const Mat<3, 3> &F, int upTo) {
 }
 
 // 2x2, index order (1, J): Eqs. 107-108, 115-117, 133-136.
-inline RootDerivatives<2> rootDerivatives(const Mat<2, 2> &F, int upTo) {
+template <int R, int C, IfShape<R, C, 2, 2> = 0>
+inline RootDerivatives<2> rootDerivatives(const Mat<R, C> &F, int upTo) {
   RootDerivatives<2> out;
   out.root = rootValue(F);
   const double f = out.root.f;
@@ -232,7 +237,8 @@ inline RootDerivatives<2> rootDerivatives(const Mat<2, 2> &F, int upTo) {
 }
 
 // 3x2, index order (1, 3) = (I_C, III_C): Eqs. 113-114, 115, 118-119, 133, 137-139.
-inline RootDerivatives<2> rootDerivatives(const Mat<3, 2> &F, int upTo) {
+template <int R, int C, IfShape<R, C, 3, 2> = 0>
+inline RootDerivatives<2> rootDerivatives(const Mat<R, C> &F, int upTo) {
   RootDerivatives<2> out;
   out.root = rootValue(F);
   const double f = out.root.f;
@@ -262,13 +268,16 @@ struct RootInvariants {
   std::array<Derivs<R * C>, K> y;
 };
 
-inline RootInvariants<3, 3> rootInvariants(const Mat<3, 3> &F, Order order) {
+template <int R, int C, IfShape<R, C, 3, 3> = 0>
+inline RootInvariants<3, 3> rootInvariants(const Mat<R, C> &F, Order order) {
   return {{invariantIC<3, 3>(F, order), invariantIIC<3, 3>(F, order), invariantJ(F, order)}};
 }
-inline RootInvariants<2, 2> rootInvariants(const Mat<2, 2> &F, Order order) {
+template <int R, int C, IfShape<R, C, 2, 2> = 0>
+inline RootInvariants<2, 2> rootInvariants(const Mat<R, C> &F, Order order) {
   return {{invariantIC<2, 2>(F, order), invariantJ(F, order)}};
 }
-inline RootInvariants<3, 2> rootInvariants(const Mat<3, 2> &F, Order order) {
+template <int R, int C, IfShape<R, C, 3, 2> = 0>
+inline RootInvariants<3, 2> rootInvariants(const Mat<R, C> &F, Order order) {
   return {{invariantIC<3, 2>(F, order), invariantIIIC<3>(F, order)}};
 }
 

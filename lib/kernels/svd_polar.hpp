@@ -37,7 +37,8 @@ inline SignedSvd<D, D> signedSvd(const Mat<D, D> &F) {
   return out;
 }
 
-inline SignedSvd<3, 2> signedSvd(const Mat<3, 2> &F) {
+template <int R, int C, IfShape<R, C, 3, 2> = 0>
+inline SignedSvd<3, 2> signedSvd(const Mat<R, C> &F) {
   Eigen::JacobiSVD<Mat<3, 2>> svd(F, Eigen::ComputeFullU | Eigen::ComputeFullV);
   return {svd.matrixU(), svd.singularValues(), svd.matrixV()};
 }

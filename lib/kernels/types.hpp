@@ -12,6 +12,7 @@
 
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 namespace aries::kernels {
 
@@ -19,6 +20,15 @@ template <int R, int C>
 using Mat = Eigen::Matrix<double, R, C>;
 template <int N>
 using Vec = Eigen::Matrix<double, N, 1>;
+
+// Selects the overload of a kernel for one shape of F: `template <int R, int C, IfShape<R, C, 3, 3> = 0>`. The kernels
+// whose bodies run Eigen's eigensolvers or SVDs (rootValue's 3x3 fallback, signedSvd on 3x2, the closed-form and the
+// numeric Hessian filters), and the kernels that call them, are templates so that only a translation unit that calls
+// them instantiates those solvers: clang and GCC instantiate what the body of a non-template inline function uses in
+// every file that includes it, called or not. Three of them (the 4x4 and 9x9 eigensolvers, the 3x2 SVD) cost 4-5 s of
+// clang's front end each in every file that included energies/energy.hpp (lib/energies/material.cpp: 26 s to 7.5 s).
+template <int R, int C, int Rows, int Cols>
+using IfShape = std::enable_if_t<R == Rows && C == Cols, int>;
 
 // How much of an evaluation a caller needs: line searches only need values, assembly needs everything.
 enum class Order : int { Value = 0, Gradient = 1, Hessian = 2 };

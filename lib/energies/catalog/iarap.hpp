@@ -12,7 +12,8 @@ namespace aries::energies {
 // The fused tet evaluation with weight w (iarap_lin's value at every F, iarap's outside the fix's band).
 // One named result returned (no copy of its 91 numbers); filtered by the closed-form eigensystem where the filter is
 // analytic, else by the numeric one (EnergyInput::filterNumerically).
-inline kernels::Derivs<9> fusedIsotropicArapTet(const EnergyInput<3, 3> &in, const kernels::RootDerivatives<3> &rd,
+template <int R, int C, kernels::IfShape<R, C, 3, 3> = 0>
+inline kernels::Derivs<9> fusedIsotropicArapTet(const EnergyInput<R, C> &in, const kernels::RootDerivatives<3> &rd,
                                                 double w) {
   const bool analytic = in.filtered() && in.filter->analytic;
   kernels::Derivs<9> out = isotropicArapTet(in.F, rd, w, 2.0 * w, 3.0 * w, in.m.lambda, 1.0, in.order,
@@ -21,7 +22,8 @@ inline kernels::Derivs<9> fusedIsotropicArapTet(const EnergyInput<3, 3> &in, con
   return out;
 }
 // The root's derivatives the fused evaluation needs: the closed-form filtered Hessian needs only R.
-inline kernels::RootDerivatives<3> fusedRootDerivatives(const EnergyInput<3, 3> &in) {
+template <int R, int C, kernels::IfShape<R, C, 3, 3> = 0>
+inline kernels::RootDerivatives<3> fusedRootDerivatives(const EnergyInput<R, C> &in) {
   const bool chainRuleHessian =
       kernels::wants(in.order, kernels::Order::Hessian) && !(in.filtered() && in.filter->analytic);
   return kernels::rootDerivatives(in.F, chainRuleHessian ? 2 : 1);
