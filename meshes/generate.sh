@@ -23,6 +23,7 @@ HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 PY=/usr/bin/python3                 # Debian's python (numpy); not whatever python3 is on PATH
 export PYTHONDONTWRITEBYTECODE=1
 BUILD="$HERE/tools/build.py"
+CATALOG="$HERE/tools/catalog.py"  # no numpy: asked on every call, cached mesh or not
 CACHE="${ARIES_MESH_CACHE:-$HERE/cache}"
 MEM_LIMIT_KB=$((8 * 1024 * 1024))
 TIME_LIMIT=900
@@ -34,17 +35,33 @@ usage() { sed -n '2,19p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2;
 [ -x "$PY" ] || die "$PY not found (apt-get install python3-numpy)"
 command -v gmsh >/dev/null || die "gmsh not found (apt-get install gmsh)"
 
+# gmsh's version, kept in the cache next to the identity of the gmsh on PATH (path, inode, size, mtime: an upgrade
+# replaces the file): `gmsh -version` loads all of libgmsh (0.2 s), and every call asks for the stamp.
+gmsh_version() {
+  local bin id v file="$CACHE/.gmsh-version"
+  bin="$(command -v gmsh)"
+  id="$(stat -L -c '%n %i %s %Y' "$bin")"
+  if [ -f "$file" ] && [ "$(head -n 1 "$file")" = "$id" ]; then
+    tail -n +2 "$file"
+    return 0
+  fi
+  v="$(gmsh -version 2>&1 || true)"
+  mkdir -p "$CACHE"
+  printf '%s\n%s\n' "$id" "$v" > "$file.$$" && mv -f "$file.$$" "$file"
+  printf '%s\n' "$v"
+}
+
 # Hash of everything that determines the mesh bytes: generator sources and the gmsh version.
 stamp() {
   {
     cat "$HERE/generate.sh" "$HERE"/tools/*.py "$HERE"/geo/*.geo
-    gmsh -version 2>&1 || true
+    gmsh_version
   } | sha256sum | cut -c1-16
 }
 
 generate() {
   local name="$1" size="$2" canon out key st tmp
-  canon="$("$PY" "$BUILD" resolve "$name" "$size")" || exit 2
+  canon="$("$PY" "$CATALOG" resolve "$name" "$size")" || exit 2
   key="${name}_${canon}"
   out="$CACHE/$key.msh"
   st="$(stamp)"
@@ -120,12 +137,12 @@ case "${1:-}" in
   h5)
     [ $# -ge 2 ] && [ $# -le 3 ] || usage
     convert_h5 "$(generate "$2" "${3:-default}")" ;;
-  list) exec "$PY" "$BUILD" list ;;
+  list) exec "$PY" "$CATALOG" list ;;
   all)
     [ $# -le 2 ] || usage
     # one generate.sh per mesh, as many at once as there are cores (each gmsh runs on one thread; the per-mesh locks
     # keep concurrent builds of one mesh apart); the paths are printed as each finishes
-    "$PY" "$BUILD" names | xargs -P "$(nproc)" -I{} "$HERE/generate.sh" {} "${2:-default}" ;;
+    "$PY" "$CATALOG" names | xargs -P "$(nproc)" -I{} "$HERE/generate.sh" {} "${2:-default}" ;;
   *)
     [ $# -le 2 ] || usage
     generate "$1" "${2:-default}" ;;
