@@ -7,6 +7,7 @@
 // (docs/options.md): -E -nu | -mu -lambda, -gamma, -mu1 -mu2, -beta, -fiber, -fiber2, -target, -curvature,
 // -singularity and its parameters. Any unknown option is an error.
 #include "energies/point_evaluation.hpp"
+#include "kernels/dense_decompositions.hpp"
 #include "fem/material_options.hpp"
 #include "core/options.hpp"
 #include "core/errors.hpp"
@@ -115,9 +116,9 @@ PetscErrorCode evaluateAt(const energies::Material &m, const fem::UniformCellDat
       for (int j = 0; j < C; ++j) std::printf(" %14.6e", P(i, j));
       std::printf("\n");
     }
-    Eigen::SelfAdjointEigenSolver<Mat<N, N>> eig(0.5 * (d.hess + d.hess.transpose()), Eigen::EigenvaluesOnly);
-    std::printf("  Hessian eigenvalues: min %.6e  max %.6e (PSD projection clamps the negative ones)\n",
-                eig.eigenvalues()[0], eig.eigenvalues()[N - 1]);
+    const kernels::Vec<N> eig = kernels::symmetricEigenvalues<N>(0.5 * (d.hess + d.hess.transpose()));
+    std::printf("  Hessian eigenvalues: min %.6e  max %.6e (PSD projection clamps the negative ones)\n", eig[0],
+                eig[N - 1]);
   }
   PetscFunctionReturn(0);
 }

@@ -1,9 +1,7 @@
 #include "fem/discretization_impl.hpp"
-
+#include "kernels/dense_decompositions.hpp"
 
 #include <petscdmplex.h>
-
-#include <Eigen/Eigenvalues>
 
 #include <algorithm>
 #include <type_traits>
@@ -292,10 +290,10 @@ PetscErrorCode DiscretizationT<R, C, NV>::freeRigidMotions(PetscInt *count) cons
       gram += m * m.transpose();
     }
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, gram.data(), n * n, MPI_DOUBLE, MPI_SUM, comm));
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, n, n>> eigen(gram, Eigen::EigenvaluesOnly);
-  const double largest = eigen.eigenvalues().maxCoeff();
+  const kernels::Vec<n> eigenvalues = kernels::symmetricEigenvalues<n>(gram);
+  const double largest = eigenvalues.maxCoeff();
   *count = 0;
-  for (int k = 0; k < n; ++k) *count += eigen.eigenvalues()[k] <= 1e-10 * largest;
+  for (int k = 0; k < n; ++k) *count += eigenvalues[k] <= 1e-10 * largest;
   PetscFunctionReturn(0);
 }
 

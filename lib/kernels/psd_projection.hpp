@@ -10,9 +10,8 @@
 //   None   the true Hessian (symmetrized), indefinite where the energy is not convex.
 #pragma once
 
+#include "kernels/dense_decompositions.hpp"
 #include "kernels/types.hpp"
-
-#include <Eigen/Eigenvalues>
 
 namespace aries::kernels {
 
@@ -33,10 +32,10 @@ inline Mat<N, N> filterEigenvalues(const Mat<N, N> &H, EigenFilter filter) {
   // Already positive definite (common near rest): a Cholesky factorization is ~20x cheaper than an eigensolve.
   Eigen::LLT<Mat<N, N>> llt(Hs);
   if (llt.info() == Eigen::Success) return Hs;
-  Eigen::SelfAdjointEigenSolver<Mat<N, N>> eig(Hs);
-  const Vec<N> &lam = eig.eigenvalues();
+  const SymmetricEigen<N> eig = symmetricEigen<N>(Hs);
+  const Vec<N> &lam = eig.values;
   if (lam[0] >= 0.0) return Hs;
-  const Mat<N, N> &Q = eig.eigenvectors();
+  const Mat<N, N> &Q = eig.vectors;
   return Q * filterSpectrum<N>(lam, filter).asDiagonal() * Q.transpose();
 }
 

@@ -27,8 +27,7 @@
 #pragma once
 
 #include "kernels/cauchy_green_invariants.hpp"
-
-#include <Eigen/Eigenvalues>
+#include "kernels/dense_decompositions.hpp"
 
 #include <array>
 
@@ -125,12 +124,12 @@ inline RootValue rootValue(const Mat<R, C> &F) {
     r.alpha = alphaN * scale * scale * scale;
     return r;
   }
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(hornMatrix(G));
-  const Eigen::Vector4d &lam = eig.eigenvalues();  // ascending
+  const SymmetricEigen<4> eig = symmetricEigen<4>(hornMatrix(G));
+  const Eigen::Vector4d &lam = eig.values;  // ascending
   r.f = lam[3] * scale;
   r.alpha = (lam[3] - lam[0]) * (lam[3] - lam[1]) * (lam[3] - lam[2]) * scale * scale * scale;
   r.fromEigen = true;
-  r.quaternion = eig.eigenvectors().col(3);
+  r.quaternion = eig.vectors.col(3);
   return r;
 }
 

@@ -17,9 +17,8 @@
 // A cell with J = 0 has no Cauchy stress (NaN).
 #pragma once
 
+#include "kernels/dense_decompositions.hpp"
 #include "kernels/types.hpp"
-
-#include <Eigen/SVD>
 
 #include <algorithm>
 #include <cmath>
@@ -80,8 +79,7 @@ inline StressMeasures stressMeasures(const Mat<R, C> &F, const Mat<R, C> &P, con
     m.cauchy.setConstant(std::numeric_limits<double>::quiet_NaN());
   m.vonMises = vonMisesStress(m.cauchy);
   m.greenLagrange = 0.5 * (Fs.transpose() * Fs - Frest * Frest.transpose());
-  Eigen::JacobiSVD<Mat<R, C>> svd(F);
-  const Vec<C> s = svd.singularValues();  // descending
+  const Vec<C> s = singularValues<R, C>(F);  // descending
   m.principalStretches.template head<C>() = s;
   if constexpr (R == C)
     if (m.J < 0.0) m.principalStretches[C - 1] = -s[C - 1];

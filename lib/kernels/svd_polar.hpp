@@ -9,9 +9,8 @@
 // 3x2 F: thin SVD (s >= 0); dR/dF has the in-plane twist 2/(s1+s2) and the out-of-plane modes n v_j^T with 1/s_j.
 #pragma once
 
+#include "kernels/dense_decompositions.hpp"
 #include "kernels/types.hpp"
-
-#include <Eigen/SVD>
 
 namespace aries::kernels {
 
@@ -24,8 +23,8 @@ struct SignedSvd {
 
 template <int D>
 inline SignedSvd<D, D> signedSvd(const Mat<D, D> &F) {
-  Eigen::JacobiSVD<Mat<D, D>> svd(F, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  SignedSvd<D, D> out{svd.matrixU(), svd.singularValues(), svd.matrixV()};
+  const FullSvd<D, D> svd = fullSvd<D, D>(F);
+  SignedSvd<D, D> out{svd.U, svd.s, svd.V};
   if (out.U.determinant() < 0.0) {
     out.U.col(D - 1) *= -1.0;
     out.s[D - 1] *= -1.0;
@@ -39,8 +38,8 @@ inline SignedSvd<D, D> signedSvd(const Mat<D, D> &F) {
 
 template <int R, int C, IfShape<R, C, 3, 2> = 0>
 inline SignedSvd<3, 2> signedSvd(const Mat<R, C> &F) {
-  Eigen::JacobiSVD<Mat<3, 2>> svd(F, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  return {svd.matrixU(), svd.singularValues(), svd.matrixV()};
+  const FullSvd<3, 2> svd = fullSvd<3, 2>(F);
+  return {svd.U, svd.s, svd.V};
 }
 
 template <int D>
