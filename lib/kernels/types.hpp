@@ -27,6 +27,9 @@ using Vec = Eigen::Matrix<double, N, 1>;
 // them instantiates those solvers: clang and GCC instantiate what the body of a non-template inline function uses in
 // every file that includes it, called or not. Three of them (the 4x4 and 9x9 eigensolvers, the 3x2 SVD) cost 4-5 s of
 // clang's front end each in every file that included energies/energy.hpp (lib/energies/material.cpp: 26 s to 7.5 s).
+// Since then aries' own build also compiles the solvers themselves once (kernels/dense_decompositions.hpp); the
+// templates still keep the kernels' own bodies, and the solvers for users of the installed headers, out of the files
+// that do not call them.
 template <int R, int C, int Rows, int Cols>
 using IfShape = std::enable_if_t<R == Rows && C == Cols, int>;
 
